@@ -1,0 +1,25 @@
+//! Meridional meshes for axisymmetric bodies with zero-thickness joints.
+//!
+//! | symbol | meaning |
+//! |---|---|
+//! | r, z | radial and axial coordinates of the meridional half plane (gmsh x, y) |
+//! | theta | circumferential angle, 0 on the +x axis |
+//! | xi, eta | joint tangent (bottom\[0\] -> bottom\[1\]) and normal (bottom -> top) |
+//! | T3, T6, Q4, Q8, Q9 | triangle / quadrilateral families (gmsh node order) |
+//! | L2, L3 | line elements on physical curves |
+//!
+//! | main types | role |
+//! |---|---|
+//! | [`Mesh`] | nodes, cells, bodies, boundary sets, joints (plain data) |
+//! | [`MshFile`] | a `.msh` file as read (MSH 4.1 ASCII/binary, MSH 2.2 ASCII) |
+//! | [`Joint`], [`JointElement`] | zero-thickness interfaces made by [`insert_joints`] |
+//! | [`MeshError`] | every failure, naming file, line or entity |
+//!
+//! Pipeline: [`gmsh::mesh_geo`] (`.geo` -> `.msh`), [`read_msh`] (`.msh` ->
+//! [`Mesh`]), [`insert_joints`], [`validate`], [`Summary`].
+
+pub mod error;
+pub mod mesh;
+
+pub use error::MeshError;
+pub use mesh::*;
