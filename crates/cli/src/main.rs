@@ -1,1 +1,37 @@
-fn main() {}
+//! `axijoint`: mesh -> solve -> report for axisymmetric bodies with joints.
+//!
+//! The only place that prints and picks exit codes: 0 success, 1 a failure
+//! of the input or the run (the message names file, line or entity), 2 a
+//! command-line usage error (from clap).
+
+mod mesh_cmd;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(name = "axijoint", version, about = "Axisymmetric bodies under non-axisymmetric loads, with joints that open and slip")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Mesh a .geo with gmsh (or read a .msh), insert joints, validate, and print a summary.
+    Mesh(mesh_cmd::MeshArgs),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Mesh(args) => mesh_cmd::run(&args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}

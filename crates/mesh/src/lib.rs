@@ -19,7 +19,21 @@
 //! [`Mesh`]), [`insert_joints`], [`validate`], [`Summary`].
 
 pub mod error;
+pub mod geometry;
+pub mod gmsh;
+pub mod joints;
 pub mod mesh;
+pub mod msh;
+pub mod pipeline;
+pub mod quadrature;
+pub mod shapes;
+pub mod summary;
+pub mod validate;
 
 pub use error::MeshError;
+pub use joints::{insert_joints, JointSpec};
 pub use mesh::*;
+pub use msh::{parse_msh, read_msh, MshFile};
+pub use pipeline::prepare;
+pub use summary::Summary;
+pub use validate::{validate, Validation};

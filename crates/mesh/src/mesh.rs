@@ -204,10 +204,11 @@ pub struct JointElement {
 pub struct Joint {
     /// Physical name of the curve.
     pub name: String,
-    /// Body on the bottom face (index into [`Mesh::bodies`]).
-    pub bottom_body: usize,
-    /// Body on the top face.
-    pub top_body: usize,
+    /// Bodies on the bottom face (indices into [`Mesh::bodies`], sorted);
+    /// several when the curve runs along several bodies (layered soil).
+    pub bottom_bodies: Vec<usize>,
+    /// Bodies on the top face (sorted).
+    pub top_bodies: Vec<usize>,
     /// Joint elements, in the order of the curve's line elements.
     pub elements: Vec<JointElement>,
     /// Node pairs `(original, copy)` created by the insertion.

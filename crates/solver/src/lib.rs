@@ -1,1 +1,24 @@
-//! placeholder
+//! Semi-analytical (Fourier) finite elements for axisymmetric bodies under
+//! non-axisymmetric loads, with zero-thickness joints.
+//!
+//! | symbol | meaning |
+//! |---|---|
+//! | r, z, theta | cylindrical coordinates; the mesh lives in the meridional half plane r >= 0; theta = 0 is +x |
+//! | m | Fourier harmonic, m >= 0; each harmonic is an independent 2D problem K_m U_m = F_m |
+//! | u, v, w | displacement amplitudes (u_r, u_z, u_theta) of harmonic m; symmetric family `u cos, v cos, w sin`, antisymmetric `u sin, v sin, -w cos` |
+//! | xi, eta | reference coordinates of a cell; along a joint: unit tangent (bottom\[0\] -> bottom\[1\]) and normal (bottom -> top) |
+//! | alpha | angle from the r axis to a joint's tangent xi |
+//! | c_m | `Integral(cos^2 m.theta)` over one turn: 2 pi for m = 0, pi for m >= 1 |
+//! | e, g | strains `(e_r, e_z, e_th, g_rz, g_rth, g_zth)`, engineering shears |
+//!
+//! | main types | role |
+//! |---|---|
+//! | [`material::Elastic`] | isotropic E, nu and the 6 x 6 D matrix |
+//! | [`elements::SolidScratch`] | per-kind workspace of [`elements::solid_stiffness`] |
+//! | [`elements::JointSprings`], [`elements::JointRule`] | joint stiffness k and its integration rule |
+//! | [`elements::JointPoint`] | one joint integration point (shape values, tangent, r, weight) |
+//!
+//! Element DOFs: 3 per node, `(u, v, w)`, node-major `[u0, v0, w0, u1, ...]`.
+
+pub mod elements;
+pub mod material;

@@ -1,0 +1,102 @@
+//! Running the gmsh command line on a `.geo` file.
+
+use crate::{read_msh, Mesh, MeshError};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// The gmsh executable: `$AXIJOINT_GMSH` if set, else `gmsh` on PATH.
+pub fn gmsh_program() -> PathBuf {
+    std::env::var_os("AXIJOINT_GMSH")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from("gmsh"))
+}
+
+/// Meshes `geo` in 2D with gmsh into `msh` (MSH 4.1 ASCII), passing each
+/// `(name, value)` as `-setnumber name value`.
+///
+/// gmsh exits non-zero on errors but may still leave a partial file, so the
+/// exit status decides, and gmsh's own `Error` lines are passed through.
+pub fn mesh_geo(geo: &Path, parameters: &[(String, f64)], msh: &Path) -> Result<(), MeshError> {
+    if !geo.is_file() {
+        return Err(MeshError::Io {
+            path: geo.to_path_buf(),
+            source: std::io::Error::new(std::io::ErrorKind::NotFound, "no such file"),
+        });
+    }
+    let mut cmd = Command::new(gmsh_program());
+    cmd.arg(geo).args(["-2", "-format", "msh41", "-o"]).arg(msh);
+    for (name, value) in parameters {
+        cmd.arg("-setnumber").arg(name).arg(format!("{value:?}"));
+    }
+    let out = cmd.output().map_err(|e| match e.kind() {
+        std::io::ErrorKind::NotFound => MeshError::GmshMissing {
+            path: geo.to_path_buf(),
+        },
+        _ => MeshError::Io {
+            path: gmsh_program(),
+            source: e,
+        },
+    })?;
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let errors: Vec<&str> = stderr
+        .lines()
+        .chain(stdout.lines())
+        .filter(|l| l.starts_with("Error"))
+        .collect();
+    if !out.status.success() || !errors.is_empty() {
+        let output = if errors.is_empty() {
+            stderr.trim().to_string()
+        } else {
+            errors.join("\n")
+        };
+        return Err(MeshError::GmshFailed {
+            path: geo.to_path_buf(),
+            status: out.status.to_string(),
+            output,
+        });
+    }
+    Ok(())
+}
+
+/// Reads a `.msh`, or meshes a `.geo` with gmsh (in a temporary folder, or
+/// into `keep_msh` when given) and reads the result.
+pub fn load(path: &Path, parameters: &[(String, f64)], keep_msh: Option<&Path>) -> Result<Mesh, MeshError> {
+    let is_geo = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("geo"));
+    if !is_geo {
+        return read_msh(path);
+    }
+    let dir = tempfile::tempdir().map_err(|e| MeshError::Io {
+        path: std::env::temp_dir(),
+        source: e,
+    })?;
+    let tmp = dir.path().join("mesh.msh");
+    mesh_geo(path, parameters, &tmp)?;
+    let mesh = read_msh(&tmp).map_err(|e| rename_path(e, &tmp, path))?;
+    if let Some(keep) = keep_msh {
+        std::fs::copy(&tmp, keep).map_err(|e| MeshError::Io {
+            path: keep.to_path_buf(),
+            source: e,
+        })?;
+    }
+    Ok(mesh)
+}
+
+/// Errors in the temporary `.msh` are reported against the `.geo`.
+fn rename_path(e: MeshError, tmp: &Path, geo: &Path) -> MeshError {
+    let label = PathBuf::from(format!("{} (meshed by gmsh)", geo.display()));
+    match e {
+        MeshError::Parse { path, line, message } if path == tmp => MeshError::Parse {
+            path: label,
+            line,
+            message,
+        },
+        MeshError::Invalid { path, message } if path == tmp => MeshError::Invalid {
+            path: label,
+            message,
+        },
+        other => other,
+    }
+}

@@ -1,0 +1,255 @@
+//! Meridional solid elements of harmonic m: B matrix, stiffness, strain and
+//! stress.
+//!
+//! Strains of harmonic m (amplitudes; symmetric family `u cos, v cos, w sin`:
+//! the first four carry `cos m.th`, the last two `sin m.th`):
+//!
+//! ```text
+//! e_r   = du/dr                 e_z   = dv/dz            e_th  = (u + m w) / r
+//! g_rz  = du/dz + dv/dr         g_rth = dw/dr - (w + m u) / r
+//! g_zth = dw/dz - m v / r
+//! ```
+//!
+//! so for node i (shape value `N`, derivatives `N_r`, `N_z`) the columns
+//! `(u_i, v_i, w_i)` of `B` are
+//!
+//! ```text
+//!         e_r   | N_r       0         0          |
+//!         e_z   | 0         N_z       0          |
+//!   B_i = e_th  | N/r       0         m N/r      |
+//!         g_rz  | N_z       N_r       0          |
+//!         g_rth | -m N/r    0         N_r - N/r  |
+//!         g_zth | 0         -m N/r    N_z        |
+//! ```
+//!
+//! m = 0 is the axisymmetric problem (u, v) plus torsion (w): the same
+//! formulas with m = 0.
+
+use crate::elements::{c_m, zero_matrix, DOF_PER_NODE};
+use crate::material::Elastic;
+use axijoint_mesh::geometry::{derivatives_rz, interpolate, jacobian};
+use axijoint_mesh::quadrature::{default_rule, Rule2D};
+use axijoint_mesh::shapes::MAX_CELL_NODES;
+use axijoint_mesh::CellKind;
+use nalgebra::DMatrix;
+
+/// Points closer to the axis than `AXIS_TOL` times the element size are
+/// treated as on the axis by [`strain_at`].
+pub const AXIS_TOL: f64 = 1e-9;
+
+/// Fills the 6 x 3n matrix `B` with hoop factor `h_i` standing for `N_i / r`.
+fn fill_b(m: u32, dn_drz: &[[f64; 2]], hoop: impl Fn(usize) -> f64, out: &mut DMatrix<f64>) {
+    let n = dn_drz.len();
+    zero_matrix(out, 6, DOF_PER_NODE * n);
+    let mf = f64::from(m);
+    for (i, &[nr, nz]) in dn_drz.iter().enumerate() {
+        let (c, h) = (DOF_PER_NODE * i, hoop(i));
+        out[(0, c)] = nr;
+        out[(1, c + 1)] = nz;
+        out[(2, c)] = h;
+        out[(2, c + 2)] = mf * h;
+        out[(3, c)] = nz;
+        out[(3, c + 1)] = nr;
+        out[(4, c)] = -mf * h;
+        out[(4, c + 2)] = nr - h;
+        out[(5, c + 1)] = -mf * h;
+        out[(5, c + 2)] = nz;
+    }
+}
+
+/// Strain-displacement matrix `B` (6 x 3n, `eps = B u_elem`) of harmonic `m`
+/// at a point of radius `r > 0`, from the shape values `n` and the physical
+/// derivatives `dn_drz = [dN/dr, dN/dz]` (see the module doc for its rows).
+///
+/// `out` is resized to 6 x 3n if needed.
+pub fn b_matrix(m: u32, n: &[f64], dn_drz: &[[f64; 2]], r: f64, out: &mut DMatrix<f64>) {
+    let inv_r = 1.0 / r;
+    fill_b(m, &dn_drz[..n.len()], |i| n[i] * inv_r, out);
+}
+
+/// `B` at a point on the axis (r = 0): the limit of [`b_matrix`] for
+/// `r -> 0`, each `N_i / r` replaced by `dN_i/dr`.
+///
+/// Exact for displacements that satisfy the axis conditions (m = 0:
+/// `u = w = 0`; m = 1: `v = 0`, `u + w = 0`; m >= 2: `u = v = w = 0`), because
+/// then `u + m w`, `w + m u` and `m v` vanish along r = 0 and
+/// `f / r -> df/dr` (l'Hopital):
+/// `e_th = d(u + m w)/dr`, `g_rth = -m du/dr`, `g_zth = dw/dz - m dv/dr`.
+pub fn b_matrix_on_axis(m: u32, dn_drz: &[[f64; 2]], out: &mut DMatrix<f64>) {
+    fill_b(m, dn_drz, |i| dn_drz[i][0], out);
+}
+
+/// Per-kind workspace of [`solid_stiffness`]: the rule, the shape values and
+/// reference derivatives at its points, and the B / DB buffers. Build it once
+/// per element kind and reuse it for every element of that kind; nothing is
+/// allocated per element or per Gauss point.
+#[derive(Clone, Debug)]
+pub struct SolidScratch {
+    kind: CellKind,
+    rule: Rule2D,
+    /// `N_i` at point q: `n[q * n_nodes + i]`.
+    n: Vec<f64>,
+    /// `[dN_i/dxi, dN_i/deta]` at point q: `dn[q * n_nodes + i]`.
+    dn: Vec<[f64; 2]>,
+    dn_rz: Vec<[f64; 2]>,
+    b: DMatrix<f64>,
+    db: DMatrix<f64>,
+}
+
+impl SolidScratch {
+    /// Workspace for `kind` with its [`default_rule`].
+    pub fn new(kind: CellKind) -> Self {
+        let rule = default_rule(kind);
+        let nn = kind.n_nodes();
+        let mut n = vec![0.0; rule.len() * nn];
+        let mut dn = vec![[0.0; 2]; rule.len() * nn];
+        for (q, xi) in rule.points.iter().enumerate() {
+            kind.eval_n(*xi, &mut n[q * nn..(q + 1) * nn]);
+            kind.eval_dn(*xi, &mut dn[q * nn..(q + 1) * nn]);
+        }
+        SolidScratch {
+            kind,
+            rule,
+            n,
+            dn,
+            dn_rz: vec![[0.0; 2]; nn],
+            b: DMatrix::zeros(6, DOF_PER_NODE * nn),
+            db: DMatrix::zeros(6, DOF_PER_NODE * nn),
+        }
+    }
+
+    /// The element kind this workspace is for.
+    pub fn kind(&self) -> CellKind {
+        self.kind
+    }
+
+    /// The integration rule.
+    pub fn rule(&self) -> Rule2D {
+        self.rule
+    }
+}
+
+/// Stiffness of a solid element for harmonic `m` (kernel `B^T D B r`):
+///
+/// ```text
+/// K = c_m * sum_q B(q)^T D B(q) r(q) |det J(q)| w_q
+/// ```
+///
+/// with the rule of [`default_rule`] (no point on the axis, so elements
+/// touching the axis integrate as any other; the axis conditions are
+/// constraints imposed at assembly). `coords` are the `kind.n_nodes()` nodes
+/// in gmsh order; `|det J|` makes either orientation work, a folded element
+/// (det J changing sign, see `corner_and_gauss_dets`) does not. `out` is
+/// resized to 3n x 3n if needed and overwritten; the result is exactly
+/// symmetric. If `scratch` is for another kind it is rebuilt.
+pub fn solid_stiffness(
+    kind: CellKind,
+    coords: &[[f64; 2]],
+    mat: &Elastic,
+    m: u32,
+    scratch: &mut SolidScratch,
+    out: &mut DMatrix<f64>,
+) {
+    if scratch.kind != kind {
+        *scratch = SolidScratch::new(kind);
+    }
+    let nn = kind.n_nodes();
+    let ndof = DOF_PER_NODE * nn;
+    zero_matrix(out, ndof, ndof);
+    let d = mat.d_matrix();
+    let cm = c_m(m);
+    let SolidScratch {
+        rule,
+        n,
+        dn,
+        dn_rz,
+        b,
+        db,
+        ..
+    } = scratch;
+    for (q, w) in rule.weights.iter().enumerate() {
+        let (nq, dnq) = (&n[q * nn..(q + 1) * nn], &dn[q * nn..(q + 1) * nn]);
+        let (jac, det) = jacobian(kind, coords, dnq);
+        derivatives_rz(&jac, det, dnq, dn_rz);
+        let r = interpolate(&coords[..nn], nq)[0];
+        b_matrix(m, nq, dn_rz, r, b);
+        db.gemm(1.0, &d, b, 0.0);
+        out.gemm_tr(cm * r * det.abs() * w, b, db, 1.0);
+    }
+    // B^T (D B) is symmetric up to rounding: make it exactly so.
+    for i in 0..ndof {
+        for j in i + 1..ndof {
+            let s = 0.5 * (out[(i, j)] + out[(j, i)]);
+            out[(i, j)] = s;
+            out[(j, i)] = s;
+        }
+    }
+}
+
+/// Strain amplitudes `(e_r, e_z, e_th, g_rz, g_rth, g_zth)` of harmonic `m`
+/// at the reference point `xi` of an element with nodal displacements
+/// `u_elem = [u0, v0, w0, u1, ...]`.
+///
+/// On the axis (`r <= AXIS_TOL * h`, h the element's bounding-box diagonal)
+/// the `1/r` terms are replaced by their exact limits (see
+/// [`b_matrix_on_axis`]): `e_th = d(u + m w)/dr`, `g_rth = -m du/dr`,
+/// `g_zth = dw/dz - m dv/dr`. These are the true limits when `u_elem`
+/// satisfies the axis conditions, as every solution of the solver does.
+/// For m = 0 they give `e_th = du/dr` (equal to `e_r` on the axis) and
+/// `g_rth = 0`, as symmetry requires.
+pub fn strain_at(kind: CellKind, coords: &[[f64; 2]], m: u32, u_elem: &[f64], xi: [f64; 2]) -> [f64; 6] {
+    let nn = kind.n_nodes();
+    let (mut n, mut dn, mut drz) = (
+        [0.0; MAX_CELL_NODES],
+        [[0.0; 2]; MAX_CELL_NODES],
+        [[0.0; 2]; MAX_CELL_NODES],
+    );
+    kind.eval_n(xi, &mut n);
+    kind.eval_dn(xi, &mut dn);
+    let (jac, det) = jacobian(kind, coords, &dn);
+    derivatives_rz(&jac, det, &dn[..nn], &mut drz[..nn]);
+    let r = interpolate(&coords[..nn], &n[..nn])[0];
+    // f[c] = [value, d/dr, d/dz] of component c = u, v, w
+    let mut f = [[0.0; 3]; 3];
+    for i in 0..nn {
+        for (c, fc) in f.iter_mut().enumerate() {
+            let ui = u_elem[DOF_PER_NODE * i + c];
+            fc[0] += n[i] * ui;
+            fc[1] += drz[i][0] * ui;
+            fc[2] += drz[i][1] * ui;
+        }
+    }
+    let [[u, u_r, u_z], [v, v_r, v_z], [w, w_r, w_z]] = f;
+    let mf = f64::from(m);
+    let (lo, hi) = coords[..nn]
+        .iter()
+        .fold(([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]), |(lo, hi), x| {
+            (
+                [lo[0].min(x[0]), lo[1].min(x[1])],
+                [hi[0].max(x[0]), hi[1].max(x[1])],
+            )
+        });
+    let h = (hi[0] - lo[0]).hypot(hi[1] - lo[1]);
+    // (u + m w)/r, (w + m u)/r, m v / r
+    let (hoop_u, hoop_w, hoop_v) = if r.abs() <= AXIS_TOL * h {
+        (u_r + mf * w_r, w_r + mf * u_r, mf * v_r)
+    } else {
+        ((u + mf * w) / r, (w + mf * u) / r, mf * v / r)
+    };
+    [u_r, v_z, hoop_u, u_z + v_r, w_r - hoop_w, w_z - hoop_v]
+}
+
+/// Stress amplitudes `D eps` in the order `(s_r, s_z, s_th, t_rz, t_rth,
+/// t_zth)` at the reference point `xi`; see [`strain_at`] (also for points
+/// on the axis).
+pub fn stress_at(
+    kind: CellKind,
+    coords: &[[f64; 2]],
+    mat: &Elastic,
+    m: u32,
+    u_elem: &[f64],
+    xi: [f64; 2],
+) -> [f64; 6] {
+    let eps = nalgebra::SVector::<f64, 6>::from(strain_at(kind, coords, m, u_elem, xi));
+    (mat.d_matrix() * eps).into()
+}

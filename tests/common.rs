@@ -1,0 +1,49 @@
+//! Shared helpers of the end-to-end tests.
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// The repository root.
+pub fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..").canonicalize().unwrap()
+}
+
+/// A file of `geo/`.
+pub fn geo(name: &str) -> PathBuf {
+    root().join("geo").join(name)
+}
+
+/// Runs the `axijoint` binary.
+pub fn axijoint(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_axijoint"))
+        .args(args)
+        .output()
+        .expect("axijoint runs")
+}
+
+/// stdout and stderr of a run, as text.
+pub fn text(out: &Output) -> (String, String) {
+    (
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+/// gmsh parameters of Scene P for one element family.
+pub fn family_params(family: &str, size: f64) -> Vec<(String, f64)> {
+    let (order, quads, serendipity) = match family {
+        "T3" => (1.0, 0.0, 0.0),
+        "T6" => (2.0, 0.0, 0.0),
+        "Q4" => (1.0, 1.0, 0.0),
+        "Q8" => (2.0, 1.0, 1.0),
+        "Q9" => (2.0, 1.0, 0.0),
+        _ => panic!("unknown family {family}"),
+    };
+    vec![
+        ("size".into(), size),
+        ("order".into(), order),
+        ("quads".into(), quads),
+        ("serendipity".into(), serendipity),
+    ]
+}
