@@ -5,6 +5,7 @@
 //! command-line usage error (from clap).
 
 mod mesh_cmd;
+mod solve_cmd;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -20,12 +21,15 @@ struct Cli {
 enum Command {
     /// Mesh a .geo with gmsh (or read a .msh), insert joints, validate, and print a summary.
     Mesh(mesh_cmd::MeshArgs),
+    /// Solve a scene with its joints as linear springs; write the solution folder.
+    Solve(solve_cmd::SolveArgs),
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Mesh(args) => mesh_cmd::run(&args),
+        Command::Solve(args) => solve_cmd::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -4,9 +4,9 @@
 //!
 //! Fixtures (tests/fixtures/): `two_squares.geo` meshed by gmsh 4.8.4 as
 //! `{tri1,tri2,quad1,quad2,quad8}_{v41,v41_bin,v22}.msh` (T3, T6, Q4, Q9,
-//! Q8), plus `tri1_v41_param*.msh` (-save_parametric) and `tri1_*_all.msh`
-//! (-save_all); hand-written `sparse_*.msh`, `unassigned_v41.msh`,
-//! `tetra_v22.msh`.
+//! Q8), plus `tri1_v41_param*.msh` (-save_parametric), `tri1_*_all.msh`
+//! (-save_all) and `tri1_v41_part.msh` (-part 2); hand-written
+//! `sparse_*.msh`, `unassigned_v41.msh`, `tetra_v22.msh`.
 //!
 //! ```text
 //!   z
@@ -202,28 +202,51 @@ fn check_two_squares(mesh: &Mesh, v: &Variant, what: &str) {
     let n_left = mesh.cells.iter().filter(|c| c.body == left).count();
     assert_eq!(n_left, v.left_cells, "{what}: cells of the transfinite square");
     for (b, body) in mesh.bodies.iter().enumerate() {
-        let area: f64 = mesh.cells.iter().filter(|c| c.body == b).map(|c| cell_area(mesh, c)).sum();
-        assert!((area - 1.0).abs() < 1e-12, "{what}: area of {} = {area}", body.name);
+        let area: f64 = mesh
+            .cells
+            .iter()
+            .filter(|c| c.body == b)
+            .map(|c| cell_area(mesh, c))
+            .sum();
+        assert!(
+            (area - 1.0).abs() < 1e-12,
+            "{what}: area of {} = {area}",
+            body.name
+        );
     }
     assert!((curve_length(mesh, "bottom") - 2.0).abs() < 1e-12, "{what}");
     assert!((curve_length(mesh, "interface") - 1.0).abs() < 1e-12, "{what}");
     let interface = mesh.curve("interface").unwrap();
-    assert_eq!(interface.edges.len(), 2, "{what}: 3 transfinite nodes on the interface");
+    assert_eq!(
+        interface.edges.len(),
+        2,
+        "{what}: 3 transfinite nodes on the interface"
+    );
     for e in mesh.curves.iter().flat_map(|c| &c.edges) {
         assert_eq!(e.kind, v.edge, "{what}");
         if e.kind == EdgeKind::Lin3 {
             let [p, q, m] = [0, 1, 2].map(|i| mesh.nodes[e.nodes[i]]);
             let mid = [(p[0] + q[0]) / 2.0, (p[1] + q[1]) / 2.0];
-            assert!((m[0] - mid[0]).abs() + (m[1] - mid[1]).abs() < 1e-12, "{what}: L3 middle");
+            assert!(
+                (m[0] - mid[0]).abs() + (m[1] - mid[1]).abs() < 1e-12,
+                "{what}: L3 middle"
+            );
         }
     }
-    assert!(interface.edges.iter().flat_map(|e| &e.nodes).all(|&n| mesh.nodes[n][0] == 1.0));
+    assert!(interface
+        .edges
+        .iter()
+        .flat_map(|e| &e.nodes)
+        .all(|&n| mesh.nodes[n][0] == 1.0));
     let corner = mesh.point("corner").expect("corner");
     assert_eq!(corner.nodes.len(), 1, "{what}");
     assert_eq!(mesh.nodes[corner.nodes[0]], [0.0, 0.0], "{what}");
     // Every node is used by a cell (no orphan kept).
     let mut used = vec![false; mesh.nodes.len()];
-    mesh.cells.iter().flat_map(|c| &c.nodes).for_each(|&n| used[n] = true);
+    mesh.cells
+        .iter()
+        .flat_map(|c| &c.nodes)
+        .for_each(|&n| used[n] = true);
     assert!(used.iter().all(|&u| u), "{what}: unused node kept");
 }
 
@@ -280,7 +303,10 @@ fn parametric_and_save_all_files_give_the_same_mesh() {
     }
     assert_eq!(all.cells, reference.cells);
     let untagged = |m: &Mesh| -> Vec<Vec<(Vec<usize>, i32)>> {
-        m.curves.iter().map(|c| c.edges.iter().map(|e| (e.nodes.clone(), e.entity)).collect()).collect()
+        m.curves
+            .iter()
+            .map(|c| c.edges.iter().map(|e| (e.nodes.clone(), e.entity)).collect())
+            .collect()
     };
     assert_eq!(untagged(&all), untagged(&reference));
     assert_eq!(all.nodes, reference.nodes);
@@ -295,7 +321,11 @@ fn msh22_save_all_loses_the_physical_groups() {
     assert!(matches!(e, MeshError::Invalid { .. }));
     assert_mentions(
         &e,
-        &["tri1_v22_all.msh", "element 21 (surface entity 1, line 55)", "no physical surface"],
+        &[
+            "tri1_v22_all.msh",
+            "element 21 (surface entity 1, line 55)",
+            "no physical surface",
+        ],
     );
 }
 
@@ -314,7 +344,9 @@ fn regenerated_gmsh_files_agree_across_formats() {
         for (suffix, format) in FORMATS {
             let out = dir.path().join(format!("{}_{suffix}.msh", v.name));
             let mut cmd = Command::new(gmsh);
-            cmd.arg(fixture("two_squares.geo")).args(["-2", "-v", "1"]).args(v.gmsh_args);
+            cmd.arg(fixture("two_squares.geo"))
+                .args(["-2", "-v", "1"])
+                .args(v.gmsh_args);
             cmd.args(["-format", if suffix == "v22" { "msh22" } else { "msh41" }]);
             if suffix == "v41_bin" {
                 cmd.arg("-bin");
@@ -327,7 +359,11 @@ fn regenerated_gmsh_files_agree_across_formats() {
             check_two_squares(&mesh, v, &out.display().to_string());
             meshes.push(mesh);
         }
-        assert_same_mesh(&meshes[0], &meshes[1], &format!("{}: 4.1 ASCII vs binary", v.name));
+        assert_same_mesh(
+            &meshes[0],
+            &meshes[1],
+            &format!("{}: 4.1 ASCII vs binary", v.name),
+        );
         assert_same_mesh(&meshes[0], &meshes[2], &format!("{}: 4.1 vs 2.2", v.name));
     }
 }
@@ -336,19 +372,33 @@ fn regenerated_gmsh_files_agree_across_formats() {
 fn check_sparse(mesh: &Mesh, what: &str) {
     // Node 1000 is used by no element: dropped (its z = 0.3 is not checked).
     assert_eq!(mesh.node_tags, [100, 7, 55, 42, 3], "{what}");
-    assert_eq!(mesh.nodes, [[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [1.0, 1.0], [0.0, 1.0]], "{what}");
+    assert_eq!(
+        mesh.nodes,
+        [[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [1.0, 1.0], [0.0, 1.0]],
+        "{what}"
+    );
     assert_eq!(mesh.bodies.len(), 1, "{what}");
-    assert_eq!((mesh.bodies[0].name.as_str(), mesh.bodies[0].tag), ("plate", 5), "{what}");
+    assert_eq!(
+        (mesh.bodies[0].name.as_str(), mesh.bodies[0].tag),
+        ("plate", 5),
+        "{what}"
+    );
     assert_eq!(mesh.cells.len(), 2, "{what}");
     assert_eq!(mesh.cells[0].kind, CellKind::Quad4);
     assert_eq!(mesh.cells[0].nodes, [0, 1, 3, 4], "{what}");
-    assert_eq!((mesh.cells[0].tag, mesh.cells[0].entity, mesh.cells[0].body), (20, 1, 0));
+    assert_eq!(
+        (mesh.cells[0].tag, mesh.cells[0].entity, mesh.cells[0].body),
+        (20, 1, 0)
+    );
     assert_eq!(mesh.cells[1].kind, CellKind::Tri3);
     assert_eq!(mesh.cells[1].nodes, [1, 2, 3], "{what}");
     // Curves in tag order; the unnamed one gets "curve_9"; line 12 (no
     // physical group) is dropped; line 11 is in both groups.
-    let curves: Vec<(&str, i32, usize)> =
-        mesh.curves.iter().map(|c| (c.name.as_str(), c.tag, c.edges.len())).collect();
+    let curves: Vec<(&str, i32, usize)> = mesh
+        .curves
+        .iter()
+        .map(|c| (c.name.as_str(), c.tag, c.edges.len()))
+        .collect();
     assert_eq!(curves, [("curve_9", 9, 1), ("base", 10, 1)], "{what}");
     for c in &mesh.curves {
         assert_eq!((c.edges[0].tag, c.edges[0].entity), (11, 1), "{what}");
@@ -388,7 +438,10 @@ fn sparse_unordered_tags_and_skipped_sections() {
     // 2.2: the copy of line 11 in group 10 (tag 13) is merged into it.
     let msh = parse_msh(&fixture_bytes("sparse_v22.msh"), Path::new("s.msh")).unwrap();
     assert_eq!(msh.elements.len(), 5);
-    assert_eq!((msh.elements[1].tag, &msh.elements[1].physical_tags[..]), (11, &[9, 10][..]));
+    assert_eq!(
+        (msh.elements[1].tag, &msh.elements[1].physical_tags[..]),
+        (11, &[9, 10][..])
+    );
     assert!(msh.entities.is_empty());
 }
 
@@ -415,14 +468,45 @@ fn element_in_no_physical_surface() {
 }
 
 #[test]
+fn msh41_without_entities_has_no_physical_groups() {
+    let text = fixture_text("unassigned_v41.msh");
+    let start = line_of(&text, "$Entities");
+    let end = line_of(&text, "$EndEntities");
+    let cut: String = text
+        .lines()
+        .enumerate()
+        .filter(|(i, _)| *i + 1 < start || *i + 1 > end)
+        .map(|(_, l)| format!("{l}\n"))
+        .collect();
+    let msh = parse_msh(cut.as_bytes(), Path::new("n.msh")).unwrap();
+    assert!(msh.entities.is_empty() && msh.elements.iter().all(|e| e.physical_tags.is_empty()));
+    let e = msh.to_mesh(Path::new("n.msh")).unwrap_err();
+    assert_mentions(&e, &["element 16 (surface entity 1", "no $Entities section"]);
+}
+
+#[test]
 fn element_in_two_physical_surfaces() {
-    let text = replace_line(&fixture_text("unassigned_v41.msh"), "3 1 0 0 2 1 0 0 0", "3 1 0 0 2 1 0 2 1 2 0");
+    let text = replace_line(
+        &fixture_text("unassigned_v41.msh"),
+        "3 1 0 0 2 1 0 0 0",
+        "3 1 0 0 2 1 0 2 1 2 0",
+    );
     let e = error_of(&text);
-    assert_mentions(&e, &["element 17 (surface entity 3", "2 physical surfaces", "'body' (1) and 'other' (2)"]);
+    assert_mentions(
+        &e,
+        &[
+            "element 17 (surface entity 3",
+            "more than one physical surface",
+            "'body' (1) and 'other' (2)",
+        ],
+    );
     // The same in 2.2: two copies of one triangle in groups 1 and 2.
     let v22 = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n3\n1 0 0 0\n2 1 0 0\n3 0 1 0\n$EndNodes\n\
                $Elements\n2\n5 2 2 1 3 1 2 3\n6 2 2 2 3 1 2 3\n$EndElements\n";
-    assert_mentions(&error_of(v22), &["element 5 (surface entity 3, line 12)", "surface_1", "surface_2"]);
+    assert_mentions(
+        &error_of(v22),
+        &["element 5 (surface entity 3, line 12)", "surface_1", "surface_2"],
+    );
     // ... while a repeat in the same group is a duplicate element.
     let e = error_of(&v22.replace("6 2 2 2 3", "6 2 2 1 3"));
     assert_eq!(line_of_error(&e), 13);
@@ -438,7 +522,10 @@ fn unknown_and_unsupported_element_types() {
     // A 4-node tetrahedron is known (it can be read past) but not usable.
     let e = read_msh(&fixture("tetra_v22.msh")).unwrap_err();
     assert_eq!(line_of_error(&e), 14);
-    assert_mentions(&e, &["tetra_v22.msh:14", "element 2", "type 4 (4-node tetrahedron)"]);
+    assert_mentions(
+        &e,
+        &["tetra_v22.msh:14", "element 2", "type 4 (4-node tetrahedron)"],
+    );
     // A 1D type in a block on a surface.
     let e = error_of(&replace_line(&text, "2 3 2 1", "2 3 1 1"));
     assert_mentions(&e, &["element type 1 (2-node line) is 1D", "surface entity 3"]);
@@ -469,7 +556,16 @@ fn node_off_the_z0_plane() {
     let text = replace_line(&fixture_text("sparse_v22.msh"), "42 1 1 0", "42 1 1 0.25");
     let e = error_of(&text);
     assert!(matches!(e, MeshError::Invalid { .. }));
-    assert_mentions(&e, &["node 42", "0.25", "z = 0"]);
+    assert_mentions(
+        &e,
+        &[
+            "node 42 at (1.0, 1.0, 0.25), used by element 20 (surface entity 1, line ",
+            "z = 0",
+        ],
+    );
+    // Within 1e-10 of the model's extent (here 2) counts as 0.
+    let text = replace_line(&fixture_text("sparse_v22.msh"), "42 1 1 0", "42 1 1 1e-10");
+    assert_eq!(mesh_of(text.as_bytes()).unwrap().nodes[3], [1.0, 1.0]);
 }
 
 #[test]
@@ -477,7 +573,13 @@ fn duplicate_node_and_element_tags() {
     let v22 = fixture_text("sparse_v22.msh");
     let e = error_of(&replace_line(&v22, "55 2 0 0", "7 2 0 0"));
     assert_eq!(line_of_error(&e), line_of(&v22, "55 2 0 0"));
-    assert_mentions(&e, &[&format!("duplicate node tag 7 (first defined at line {})", line_of(&v22, "7 1 0 0"))]);
+    assert_mentions(
+        &e,
+        &[&format!(
+            "duplicate node tag 7 (first defined at line {})",
+            line_of(&v22, "7 1 0 0")
+        )],
+    );
 
     let v41 = fixture_text("sparse_v41.msh");
     let e = error_of(&replace_line(&v41, "55", "100"));
@@ -519,14 +621,24 @@ fn missing_end_markers() {
 /// `$NodeData` section after it).
 #[test]
 fn truncated_at_every_line_is_an_error() {
-    for file in ["sparse_v41.msh", "sparse_v22.msh", "tri2_v41.msh", "quad8_v22.msh", "tri1_v41_param.msh"] {
+    for file in [
+        "sparse_v41.msh",
+        "sparse_v22.msh",
+        "tri2_v41.msh",
+        "quad8_v22.msh",
+        "tri1_v41_param.msh",
+    ] {
         let text = fixture_text(file);
         let lines: Vec<&str> = text.lines().collect();
         let complete = line_of(&text, "$EndElements");
         for k in 0..=lines.len() {
             let prefix = lines[..k].join("\n");
             let result = mesh_of(prefix.as_bytes());
-            assert_eq!(result.is_ok(), k == complete || k == lines.len(), "{file} cut after {k} lines");
+            assert_eq!(
+                result.is_ok(),
+                k == complete || k == lines.len(),
+                "{file} cut after {k} lines"
+            );
         }
     }
 }
@@ -558,7 +670,10 @@ fn wrong_counts() {
     assert!(line_of_error(&e) > header);
     // More node blocks than there are.
     let e = error_of(&replace_line(&v41, "3 6 3 1000", "4 6 3 1000"));
-    assert_mentions(&e, &["expected the node block's entity dimension, found '$EndNodes'"]);
+    assert_mentions(
+        &e,
+        &["expected the node block's entity dimension, found '$EndNodes'"],
+    );
     let e = error_of(&replace_line(&v41, "5 5 11 500", "5 6 11 500"));
     assert_mentions(&e, &["declares 6 elements but its blocks hold 5"]);
     let e = error_of(&replace_line(&v41, "5 5 11 500", "5 4 11 500"));
@@ -566,26 +681,58 @@ fn wrong_counts() {
     // A block claiming 2 quadrangles reads the next block header as one.
     let e = error_of(&replace_line(&v41, "2 1 3 1", "2 1 3 2"));
     assert_eq!(line_of_error(&e), line_of(&v41, "2 1 2 1"));
-    assert_mentions(&e, &["element 2 (4-node quadrangle) has too few nodes", "found the end of the line"]);
+    assert_mentions(
+        &e,
+        &[
+            "element 2 (4-node quadrangle) has too few nodes",
+            "found the end of the line",
+        ],
+    );
     // An element line with one node too many.
     let e = error_of(&replace_line(&v41, "21 7 55 42", "21 7 55 42 3"));
     assert_eq!(line_of_error(&e), line_of(&v41, "21 7 55 42"));
-    assert_mentions(&e, &["unexpected '3' after the 3 nodes of element 21 (3-node triangle)"]);
+    assert_mentions(
+        &e,
+        &["unexpected '3' after the 3 nodes of element 21 (3-node triangle)"],
+    );
 
     let v22 = fixture_text("sparse_v22.msh");
     let e = error_of(&v22.replacen("$Nodes\n6\n", "$Nodes\n7\n", 1));
     assert_eq!(line_of_error(&e), line_of(&v22, "$EndNodes"));
-    assert_mentions(&e, &["expected a node tag", "fewer nodes than declared", "found '$EndNodes'"]);
+    assert_mentions(
+        &e,
+        &[
+            "expected a node tag",
+            "fewer nodes than declared",
+            "found '$EndNodes'",
+        ],
+    );
     let nodes5 = v22.replacen("$Nodes\n6\n", "$Nodes\n5\n", 1);
     let e = error_of(&nodes5);
     assert_eq!(line_of_error(&e), line_of(&v22, "1000 5 5 0.3"));
-    assert_mentions(&e, &["expected $EndNodes", "found '1000 5 5 0.3'", "more data than its counts declare"]);
+    assert_mentions(
+        &e,
+        &[
+            "expected $EndNodes",
+            "found '1000 5 5 0.3'",
+            "more data than its counts declare",
+        ],
+    );
     let elements7 = v22.replacen("$Elements\n6\n", "$Elements\n7\n", 1);
-    assert_mentions(&error_of(&elements7), &["fewer elements than declared", "found '$EndElements'"]);
+    assert_mentions(
+        &error_of(&elements7),
+        &["fewer elements than declared", "found '$EndElements'"],
+    );
     // A triangle with 2 nodes.
     let e = error_of(&replace_line(&v22, "21 2 2 5 1 7 55 42", "21 2 2 5 1 7 55"));
     assert_eq!(line_of_error(&e), line_of(&v22, "21 2 2 5 1 7 55 42"));
-    assert_mentions(&e, &["element 21 (3-node triangle) has too few nodes", "found the end of the line"]);
+    assert_mentions(
+        &e,
+        &[
+            "element 21 (3-node triangle) has too few nodes",
+            "found the end of the line",
+        ],
+    );
     // Too few physical names.
     let e = error_of(&replace_line(&v22, "3", "4"));
     assert_eq!(line_of_error(&e), line_of(&v22, "$EndPhysicalNames"));
@@ -602,7 +749,10 @@ fn bad_numbers() {
         ("42 1 1e999 0", "non-finite"),
         ("-42 1 1 0", "found '-42'"),
         ("42.0 1 1 0", "found '42.0'"),
-        ("42 1 1", "coordinates of node 42: expected z, found the end of the line"),
+        (
+            "42 1 1",
+            "coordinates of node 42: expected z, found the end of the line",
+        ),
         ("42 1 1 0 0", "unexpected '0' after the coordinates of node 42"),
     ];
     for (bad, culprit) in cases {
@@ -610,8 +760,15 @@ fn bad_numbers() {
         assert_eq!(line_of_error(&e), line, "{bad}");
         assert_mentions(&e, &["case.msh", culprit]);
     }
-    let e = error_of(&replace_line(&v22, "20 3 2 5 1 100 7 42 3", "20 3 2 5 1 100 7 x 3"));
-    assert_mentions(&e, &["element 20 (4-node quadrangle) has too few nodes: expected a node tag, found 'x'"]);
+    let e = error_of(&replace_line(
+        &v22,
+        "20 3 2 5 1 100 7 42 3",
+        "20 3 2 5 1 100 7 x 3",
+    ));
+    assert_mentions(
+        &e,
+        &["element 20 (4-node quadrangle) has too few nodes: expected a node tag, found 'x'"],
+    );
 
     let v41 = fixture_text("sparse_v41.msh");
     let e = error_of(&replace_line(&v41, "1 1 0 2", "1 1 0 -2"));
@@ -635,9 +792,18 @@ fn missing_or_unsupported_mesh_format() {
     assert_eq!(line_of_error(&e), 1);
     assert_mentions(&e, &["missing $MeshFormat", "$PhysicalNames"]);
     assert_mentions(&error_of(""), &["case.msh:1:", "missing $MeshFormat"]);
-    assert_mentions(&error_of("$Comments\nhi\n$EndComments\n"), &["missing $MeshFormat"]);
-    assert_mentions(&error_of("solid cube\n"), &["case.msh:1:", "expected a section header", "'solid cube'"]);
-    assert_mentions(&error_of("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n"), &["no $Nodes section"]);
+    assert_mentions(
+        &error_of("$Comments\nhi\n$EndComments\n"),
+        &["missing $MeshFormat"],
+    );
+    assert_mentions(
+        &error_of("solid cube\n"),
+        &["case.msh:1:", "expected a section header", "'solid cube'"],
+    );
+    assert_mentions(
+        &error_of("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n"),
+        &["no $Nodes section"],
+    );
 
     for (version, culprit) in [
         ("3.0 0 8", "unsupported MSH version '3.0'"),
@@ -652,7 +818,11 @@ fn missing_or_unsupported_mesh_format() {
         assert_eq!(line_of_error(&e), 2, "{version}");
         assert_mentions(&e, &[culprit]);
     }
-    let e = error_of(&replace_line(&v22, "$MeshFormat", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$MeshFormat"));
+    let e = error_of(&replace_line(
+        &v22,
+        "$MeshFormat",
+        "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$MeshFormat",
+    ));
     assert_mentions(&e, &["second $MeshFormat"]);
     let e = error_of(&format!("{v22}garbage\n"));
     assert_mentions(&e, &["expected a section header", "'garbage'"]);
@@ -662,7 +832,9 @@ fn missing_or_unsupported_mesh_format() {
 
 /// Byte offset of `needle` in `hay`.
 fn find(hay: &[u8], needle: &[u8]) -> usize {
-    hay.windows(needle.len()).position(|w| w == needle).expect("found")
+    hay.windows(needle.len())
+        .position(|w| w == needle)
+        .expect("found")
 }
 
 #[test]
@@ -698,7 +870,10 @@ fn binary_errors() {
     assert_mentions(&e, &["more nodes than the 18"]);
     let mut huge_total = huge.clone();
     huge_total[nodes + 15..nodes + 23].copy_from_slice(&u64::MAX.to_le_bytes());
-    assert_mentions(&mesh_of(&huge_total).unwrap_err(), &["file truncated", "nodes need too many bytes"]);
+    assert_mentions(
+        &mesh_of(&huge_total).unwrap_err(),
+        &["file truncated", "nodes need too many bytes"],
+    );
 
     // A NaN coordinate.
     let mut nan = bytes.clone();
@@ -722,7 +897,10 @@ fn entity_missing_from_entities() {
     let text = fixture_text("unassigned_v41.msh");
     let e = error_of(&replace_line(&text, "2 1 2 1", "2 8 2 1"));
     assert_eq!(line_of_error(&e), line_of(&text, "16 1 2 3"));
-    assert_mentions(&e, &["element 16 is on surface entity 8, which $Entities does not list"]);
+    assert_mentions(
+        &e,
+        &["element 16 is on surface entity 8, which $Entities does not list"],
+    );
     let e = error_of(&replace_line(&text, "3 1 0 0 2 1 0 0 0", "1 1 0 0 2 1 0 0 0"));
     assert_mentions(&e, &["surface entity 1 is listed twice"]);
 }
@@ -730,7 +908,10 @@ fn entity_missing_from_entities() {
 #[test]
 fn physical_names_must_be_unique_per_dimension() {
     let v22 = fixture_text("sparse_v22.msh");
-    let e = error_of(&replace_line(&v22, "1 10 \"base\"", "1 10 \"plate\"").replace("0 20 \"axis origin\"", "2 20 \"plate\""));
+    let e = error_of(
+        &replace_line(&v22, "1 10 \"base\"", "1 10 \"plate\"")
+            .replace("0 20 \"axis origin\"", "2 20 \"plate\""),
+    );
     assert!(matches!(e, MeshError::Invalid { .. }));
     assert_mentions(&e, &["physical surfaces 5 and 20 are both named 'plate'"]);
     let e = error_of(&replace_line(&v22, "3", "4").replace("2 5 \"plate\"", "2 5 \"plate\"\n2 5 \"slab\""));
@@ -757,7 +938,10 @@ fn msh_file_can_be_built_by_hand() {
         nodes: vec![(1, [0.0, 0.0, 0.0]), (1, [1.0, 0.0, 0.0])],
         elements: vec![],
     };
-    assert_mentions(&msh.to_mesh(Path::new("h.msh")).unwrap_err(), &["node tag 1 is defined twice"]);
+    assert_mentions(
+        &msh.to_mesh(Path::new("h.msh")).unwrap_err(),
+        &["node tag 1 is defined twice"],
+    );
     let msh = MshFile {
         nodes: vec![(1, [0.0, 0.0, 0.0]), (2, [1.0, 0.0, 0.0])],
         elements: vec![RawElement {
@@ -774,4 +958,61 @@ fn msh_file_can_be_built_by_hand() {
     let e = msh.to_mesh(Path::new("h.msh")).unwrap_err();
     assert_eq!(line_of_error(&e), 9);
     assert_mentions(&e, &["element 4", "has 2 nodes, its type needs 3"]);
+}
+
+#[test]
+fn huge_physical_tag_lists_are_not_copied_to_every_element() {
+    // A surface entity in 3000 physical groups, with 2000 triangles: copying
+    // its list to each element would take 6 million tags from 30 kB.
+    let tags: Vec<String> = (1..=3000).map(|t| t.to_string()).collect();
+    let mut text = format!(
+        "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Entities\n0 0 1 0\n1 0 0 0 1 1 0 3000 {} 0\n$EndEntities\n\
+         $Nodes\n1 3 1 3\n2 1 0 3\n1\n2\n3\n0 0 0\n1 0 0\n0 1 0\n$EndNodes\n$Elements\n1 2000 1 2000\n2 1 2 2000\n",
+        tags.join(" ")
+    );
+    for t in 1..=2000 {
+        text.push_str(&format!("{t} 1 2 3\n"));
+    }
+    text.push_str("$EndElements\n");
+    let e = error_of(&text);
+    assert_mentions(
+        &e,
+        &["surface entity 1 gives its elements implausibly many physical tags (3000 each)"],
+    );
+}
+
+/// gmsh -part 2: MSH 4.1 puts the elements on partition entities, listed
+/// in $PartitionedEntities only; MSH 2.2 just adds partition tags.
+#[test]
+fn partitioned_meshes() {
+    let e = read_msh(&fixture("tri1_v41_part.msh")).unwrap_err();
+    assert_mentions(
+        &e,
+        &[
+            "element 1 is on point entity 7",
+            "partitioned meshes are not supported",
+        ],
+    );
+    let text = fixture_text("tri1_v22.msh");
+    // Each element line `tag type 2 phys entity nodes...` gets the tags
+    // `4 phys entity 1 2` (one partition, number 2).
+    let (start, end) = (line_of(&text, "$Elements") + 1, line_of(&text, "$EndElements"));
+    let partitioned: String = text
+        .lines()
+        .enumerate()
+        .map(|(i, l)| {
+            let t: Vec<&str> = l.split_whitespace().collect();
+            if i + 1 > start && i + 1 < end {
+                format!("{} {} 4 {} {} 1 2 {}\n", t[0], t[1], t[3], t[4], t[5..].join(" "))
+            } else {
+                format!("{l}\n")
+            }
+        })
+        .collect();
+    assert_ne!(partitioned, text);
+    assert_same_mesh(
+        &mesh_of(text.as_bytes()).unwrap(),
+        &mesh_of(partitioned.as_bytes()).unwrap(),
+        "2.2 with partition tags",
+    );
 }

@@ -17,8 +17,18 @@
 //! | [`elements::SolidScratch`] | per-kind workspace of [`elements::solid_stiffness`] |
 //! | [`elements::JointSprings`], [`elements::JointRule`] | joint stiffness k and its integration rule |
 //! | [`elements::JointPoint`] | one joint integration point (shape values, tangent, r, weight) |
+//! | [`scene::Scene`] | a run's JSON input: mesh, materials, joints, supports, loads, settings |
+//! | [`loads::HarmonicLoads`] | nodal forces of one harmonic, both families ([`loads::assemble_loads`]) |
 //!
 //! Element DOFs: 3 per node, `(u, v, w)`, node-major `[u0, v0, w0, u1, ...]`.
 
+pub mod assembly;
+pub mod dofs;
+pub mod driver;
 pub mod elements;
+pub mod error;
+pub mod linear;
+pub mod loads;
 pub mod material;
+pub mod results;
+pub mod scene;

@@ -2,9 +2,9 @@
 //! renumbered from 0 in file order.
 
 use super::types::{role, type_info, Role};
-use super::{dim_word, MshFile, RawElement};
+use super::{dim_word, MshFile, MshFormat, RawElement};
 use crate::{Body, Cell, CurveSet, Edge, Mesh, MeshError, PointSet};
-use std::collections::{BTreeMap, HashMap};
+use std::collections::{BTreeMap, HashMap, HashSet};
 use std::path::Path;
 
 /// A node may leave the z = 0 plane by this fraction of the model's extent.
@@ -63,6 +63,52 @@ fn physical_groups(msh: &MshFile, path: &Path) -> Result<[Groups; 3], MeshError>
     Ok(groups)
 }
 
+/// Node tag -> index into [`MshFile::nodes`]: a table when the tags are
+/// dense (gmsh numbers nodes 1..n), a hash map otherwise.
+enum TagIndex {
+    Dense(Vec<usize>),
+    Sparse(HashMap<u64, usize>),
+}
+
+impl TagIndex {
+    /// The index of `nodes`, or the first tag defined twice.
+    fn new(nodes: &[(u64, [f64; 3])]) -> Result<Self, u64> {
+        let max = nodes.iter().map(|n| n.0).max().unwrap_or(0);
+        let dense_len = usize::try_from(max)
+            .ok()
+            .filter(|&m| m <= 2 * nodes.len() + 1024)
+            .map(|m| m + 1);
+        if let Some(len) = dense_len {
+            let mut table = vec![usize::MAX; len];
+            for (i, &(tag, _)) in nodes.iter().enumerate() {
+                match usize::try_from(tag).ok().and_then(|t| table.get_mut(t)) {
+                    Some(slot) if *slot == usize::MAX => *slot = i,
+                    _ => return Err(tag),
+                }
+            }
+            return Ok(TagIndex::Dense(table));
+        }
+        let mut map = HashMap::with_capacity(nodes.len());
+        for (i, &(tag, _)) in nodes.iter().enumerate() {
+            if map.insert(tag, i).is_some() {
+                return Err(tag);
+            }
+        }
+        Ok(TagIndex::Sparse(map))
+    }
+
+    fn get(&self, tag: u64) -> Option<usize> {
+        match self {
+            TagIndex::Dense(table) => usize::try_from(tag)
+                .ok()
+                .and_then(|t| table.get(t))
+                .copied()
+                .filter(|&i| i != usize::MAX),
+            TagIndex::Sparse(map) => map.get(&tag).copied(),
+        }
+    }
+}
+
 /// "element 17 (surface entity 3, line 120)".
 fn describe(el: &RawElement) -> String {
     format!(
@@ -102,7 +148,8 @@ impl MshFile {
             message,
         };
         let [point_groups, curve_groups, surface_groups] = physical_groups(self, path)?;
-        let index_of = |g: &Groups| -> HashMap<i32, usize> { g.keys().enumerate().map(|(i, &t)| (t, i)).collect() };
+        let index_of =
+            |g: &Groups| -> HashMap<i32, usize> { g.keys().enumerate().map(|(i, &t)| (t, i)).collect() };
         let (body_of, curve_of, point_of) = (
             index_of(&surface_groups),
             index_of(&curve_groups),
@@ -111,7 +158,10 @@ impl MshFile {
         let mut mesh = Mesh {
             bodies: surface_groups
                 .iter()
-                .map(|(&tag, name)| Body { name: name.clone(), tag })
+                .map(|(&tag, name)| Body {
+                    name: name.clone(),
+                    tag,
+                })
                 .collect(),
             curves: curve_groups
                 .iter()
@@ -132,15 +182,15 @@ impl MshFile {
             ..Mesh::default()
         };
 
-        let mut file_index: HashMap<u64, usize> = HashMap::with_capacity(self.nodes.len());
-        for (i, &(tag, _)) in self.nodes.iter().enumerate() {
-            if file_index.insert(tag, i).is_some() {
-                return Err(invalid(format!("node tag {tag} is defined twice")));
-            }
-        }
+        let file_index =
+            TagIndex::new(&self.nodes).map_err(|tag| invalid(format!("node tag {tag} is defined twice")))?;
         // Node indices below are into `self.nodes` until the renumbering.
-        let mut used = vec![false; self.nodes.len()];
-        for el in &self.elements {
+        // `user[i]`: the first kept element using node i (for messages).
+        let mut user: Vec<Option<&RawElement>> = vec![None; self.nodes.len()];
+        // The last element added to each curve set; (set, node) of point sets.
+        let mut curve_last: Vec<Option<usize>> = vec![None; mesh.curves.len()];
+        let mut point_members: HashSet<(usize, usize)> = HashSet::new();
+        for (el_index, el) in self.elements.iter().enumerate() {
             let Some(role) = role(el.gmsh_type) else {
                 let what = type_info(el.gmsh_type).map_or("unknown", |i| i.name);
                 return Err(parse_error(
@@ -161,38 +211,54 @@ impl MshFile {
             if el.nodes.len() != expected {
                 return Err(parse_error(
                     el.line,
-                    format!("{} has {} nodes, its type needs {expected}", describe(el), el.nodes.len()),
+                    format!(
+                        "{} has {} nodes, its type needs {expected}",
+                        describe(el),
+                        el.nodes.len()
+                    ),
                 ));
             }
             let mut nodes = Vec::with_capacity(expected);
             for &n in &el.nodes {
-                let Some(&i) = file_index.get(&n) else {
+                let Some(i) = file_index.get(n) else {
                     return Err(parse_error(
                         el.line,
-                        format!("{} references node {n}, which $Nodes does not define", describe(el)),
+                        format!(
+                            "{} references node {n}, which $Nodes does not define",
+                            describe(el)
+                        ),
                     ));
                 };
                 nodes.push(i);
             }
+            let node_indices = nodes.clone();
             let mut keep = false;
             match role {
                 Role::Cell(kind) => {
-                    let mut bodies: Vec<usize> = Vec::new();
+                    // Up to two distinct bodies: one is right, two is enough to refuse.
+                    let mut bodies: Vec<usize> = Vec::with_capacity(2);
                     for t in &el.physical_tags {
                         if let Some(&b) = body_of.get(t) {
                             if !bodies.contains(&b) {
                                 bodies.push(b);
+                                if bodies.len() == 2 {
+                                    break;
+                                }
                             }
                         }
                     }
                     let body = match bodies.as_slice() {
                         [b] => *b,
                         [] => {
+                            let hint = if self.entities.is_empty() && self.format != MshFormat::V22Ascii {
+                                "the file has no $Entities section, so no physical groups"
+                            } else {
+                                "every cell must belong to one body: add its surface to a Physical Surface"
+                            };
                             return Err(invalid(format!(
-                                "{} is in no physical surface (every cell must belong to one body: \
-                                 add its surface to a Physical Surface)",
+                                "{} is in no physical surface ({hint})",
                                 describe(el)
-                            )))
+                            )));
                         }
                         several => {
                             let names: Vec<String> = several
@@ -201,9 +267,9 @@ impl MshFile {
                                 .map(|b| format!("'{}' ({})", b.name, b.tag))
                                 .collect();
                             return Err(invalid(format!(
-                                "{} is in {} physical surfaces, {}: a cell belongs to exactly one body",
+                                "{} is in more than one physical surface, {}: a cell belongs to \
+                                 exactly one body",
                                 describe(el),
-                                several.len(),
                                 names.join(" and ")
                             )));
                         }
@@ -219,7 +285,13 @@ impl MshFile {
                 }
                 Role::Edge(kind) => {
                     for t in &el.physical_tags {
-                        if let Some(set) = curve_of.get(t).and_then(|&c| mesh.curves.get_mut(c)) {
+                        let Some(&c) = curve_of.get(t) else { continue };
+                        // A tag listed twice adds the edge once.
+                        if curve_last.get(c) == Some(&Some(el_index)) {
+                            continue;
+                        }
+                        if let (Some(set), Some(last)) = (mesh.curves.get_mut(c), curve_last.get_mut(c)) {
+                            *last = Some(el_index);
                             set.edges.push(Edge {
                                 kind,
                                 nodes: nodes.clone(),
@@ -232,9 +304,10 @@ impl MshFile {
                 }
                 Role::Point => {
                     for t in &el.physical_tags {
-                        if let Some(set) = point_of.get(t).and_then(|&p| mesh.points.get_mut(p)) {
+                        let Some(&p) = point_of.get(t) else { continue };
+                        if let Some(set) = mesh.points.get_mut(p) {
                             for &n in &nodes {
-                                if !set.nodes.contains(&n) {
+                                if point_members.insert((p, n)) {
                                     set.nodes.push(n);
                                 }
                             }
@@ -244,9 +317,9 @@ impl MshFile {
                 }
             }
             if keep {
-                for &n in &el.nodes {
-                    if let Some(u) = file_index.get(&n).and_then(|&i| used.get_mut(i)) {
-                        *u = true;
+                for &i in &node_indices {
+                    if let Some(u) = user.get_mut(i) {
+                        u.get_or_insert(el);
                     }
                 }
             }
@@ -256,7 +329,7 @@ impl MshFile {
         let mut new_index = vec![usize::MAX; self.nodes.len()];
         let mut extent: f64 = 0.0;
         for (i, &(tag, [x, y, _])) in self.nodes.iter().enumerate() {
-            if used.get(i) == Some(&true) {
+            if user.get(i).is_some_and(Option::is_some) {
                 if let Some(slot) = new_index.get_mut(i) {
                     *slot = mesh.nodes.len();
                 }
@@ -265,11 +338,12 @@ impl MshFile {
                 extent = extent.max(x.abs()).max(y.abs());
             }
         }
-        for (i, &(tag, [x, y, z])) in self.nodes.iter().enumerate() {
-            if used.get(i) == Some(&true) && z.abs() > Z_TOLERANCE * extent {
+        for (&(tag, [x, y, z]), el) in self.nodes.iter().zip(&user) {
+            if let (Some(el), true) = (el, z.abs() > Z_TOLERANCE * extent) {
                 return Err(invalid(format!(
-                    "node {tag} at ({x}, {y}, {z}) is off the z = 0 plane: the mesh must lie in \
-                     the meridional plane (gmsh x = r, y = z, z = 0)"
+                    "node {tag} at ({x:?}, {y:?}, {z:?}), used by {}, is off the z = 0 plane: the \
+                     mesh must lie in the meridional plane (gmsh x = r, y = z, z = 0)",
+                    describe(el)
                 )));
             }
         }

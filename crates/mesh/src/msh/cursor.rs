@@ -25,10 +25,17 @@ pub(super) struct Cursor<'a> {
 /// Longest excerpt of the file quoted in a message.
 const QUOTE_MAX: usize = 40;
 
-/// The bytes as text for a message, shortened.
+/// The bytes as text for a message: shortened, control characters escaped.
 pub(super) fn quote(bytes: &[u8]) -> String {
     let text = String::from_utf8_lossy(bytes);
-    let mut out: String = text.chars().take(QUOTE_MAX).collect();
+    let mut out = String::new();
+    for c in text.chars().take(QUOTE_MAX) {
+        if c.is_control() {
+            out.extend(c.escape_default());
+        } else {
+            out.push(c);
+        }
+    }
     if text.chars().count() > QUOTE_MAX {
         out.push_str("...");
     }
@@ -149,7 +156,7 @@ impl<'a> Cursor<'a> {
 
     /// Skips spaces and tabs, staying on the current line.
     fn skip_blanks(&mut self) {
-        while matches!(self.peek(), Some(b' ' | b'\t' | b'\r' | b'\x0b' | b'\x0c')) {
+        while self.peek().is_some_and(|b| b != b'\n' && b.is_ascii_whitespace()) {
             self.advance(1);
         }
     }
@@ -288,14 +295,20 @@ impl<'a> Cursor<'a> {
     pub fn expect_end(&mut self, name: &str, start_line: usize) -> Result<(), MeshError> {
         match self.next_line() {
             Some((text, _)) if text.strip_prefix(b"$End") == Some(name.as_bytes()) => Ok(()),
-            Some((text, line)) => Err(self.error_at(
-                line,
-                format!(
-                    "expected $End{name} (closing ${name} of line {start_line}), found '{}': \
-                     the section holds more data than its counts declare",
-                    quote(text)
-                ),
-            )),
+            Some((text, line)) => {
+                let hint = if text.starts_with(b"$") {
+                    ""
+                } else {
+                    ": the section holds more data than its counts declare"
+                };
+                Err(self.error_at(
+                    line,
+                    format!(
+                        "expected $End{name} (closing ${name} of line {start_line}), found '{}'{hint}",
+                        quote(text)
+                    ),
+                ))
+            }
             None => Err(self.error_at(
                 self.line,
                 format!("file ends inside ${name} (line {start_line}): no $End{name}"),
@@ -353,5 +366,6 @@ mod tests {
         assert_eq!(trim(b"  $Nodes \r"), b"$Nodes");
         assert_eq!(trim(b"   "), b"");
         assert_eq!(quote(&[b'x'; 50]).len(), QUOTE_MAX + 3);
+        assert_eq!(quote(b"a\x00\x0b"), "a\\u{0}\\u{b}");
     }
 }

@@ -24,7 +24,7 @@ mod v41;
 
 use crate::{Mesh, MeshError};
 use cursor::{quote, Cursor};
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::path::Path;
 
 /// The flavour of a `.msh` file.
@@ -67,7 +67,8 @@ pub struct RawElement {
     pub tag: u64,
     /// gmsh element type (2 = 3-node triangle, ...).
     pub gmsh_type: i32,
-    /// Dimension of the entity the element is classified on.
+    /// Dimension of the entity the element is classified on (2.2: of the
+    /// element type).
     pub entity_dim: i32,
     /// Tag of that entity (0 if a 2.2 file gives none).
     pub entity_tag: i32,
@@ -113,8 +114,12 @@ struct Builder {
     /// MSH 2.2: (type, entity, nodes) -> index into `elements`, to merge
     /// the copies gmsh writes of an element in several physical groups.
     v22_copies: HashMap<(i32, i32, Vec<u64>), usize>,
+    /// MSH 2.2: (index into `elements`, physical tag) seen.
+    v22_groups: HashSet<(usize, i32)>,
     has_nodes: bool,
     has_elements: bool,
+    /// A `$PartitionedEntities` section was skipped.
+    partitioned: bool,
 }
 
 impl Builder {
@@ -130,8 +135,10 @@ impl Builder {
             elements: Vec::new(),
             element_lines: HashMap::new(),
             v22_copies: HashMap::new(),
+            v22_groups: HashSet::new(),
             has_nodes: false,
             has_elements: false,
+            partitioned: false,
         }
     }
 
@@ -141,7 +148,10 @@ impl Builder {
             return Err(cur.error_on(line, "node tag 0 (tags must be positive)"));
         }
         if let Some(first) = self.node_lines.insert(tag, line) {
-            return Err(cur.error_on(line, format!("duplicate node tag {tag} (first defined at line {first})")));
+            return Err(cur.error_on(
+                line,
+                format!("duplicate node tag {tag} (first defined at line {first})"),
+            ));
         }
         Ok(())
     }
@@ -161,9 +171,33 @@ impl Builder {
     }
 
     /// Gives each 4.1 element the physical tags of its entity.
-    fn resolve_entities(&mut self, path: &Path) -> Result<(), MeshError> {
+    ///
+    /// The copies may not hold more tags in all than the file has bytes:
+    /// a corrupt entity with a huge tag list would otherwise multiply its
+    /// size by the number of its elements.
+    fn resolve_entities(&mut self, path: &Path, file_len: usize) -> Result<(), MeshError> {
         if self.format == MshFormat::V22Ascii || !self.has_entities {
             return Ok(());
+        }
+        let mut total: usize = 0;
+        for el in &self.elements {
+            let n = self
+                .entity_index
+                .get(&(el.entity_dim, el.entity_tag))
+                .and_then(|&i| self.entities.get(i))
+                .map_or(0, |e| e.physical_tags.len());
+            total = total.saturating_add(n);
+            if total > file_len {
+                return Err(MeshError::Parse {
+                    path: path.to_path_buf(),
+                    line: el.line,
+                    message: format!(
+                        "{} entity {} gives its elements implausibly many physical tags ({n} each)",
+                        dim_word(el.entity_dim),
+                        el.entity_tag
+                    ),
+                });
+            }
         }
         for el in &mut self.elements {
             let Some(&i) = self.entity_index.get(&(el.entity_dim, el.entity_tag)) else {
@@ -171,10 +205,15 @@ impl Builder {
                     path: path.to_path_buf(),
                     line: el.line,
                     message: format!(
-                        "element {} is on {} entity {}, which $Entities does not list",
+                        "element {} is on {} entity {}, which $Entities does not list{}",
                         el.tag,
                         dim_word(el.entity_dim),
-                        el.entity_tag
+                        el.entity_tag,
+                        if self.partitioned {
+                            " (partitioned meshes are not supported: mesh without -part)"
+                        } else {
+                            ""
+                        }
                     ),
                 });
             };
@@ -199,7 +238,7 @@ fn with_context(e: MeshError, context: impl FnOnce() -> String) -> MeshError {
 }
 
 /// "point", "curve", "surface" or "volume".
-pub(crate) fn dim_word(dim: i32) -> &'static str {
+fn dim_word(dim: i32) -> &'static str {
     match dim {
         0 => "point",
         1 => "curve",
@@ -227,7 +266,10 @@ pub fn parse_msh(bytes: &[u8], path: &Path) -> Result<MshFile, MeshError> {
         let Some(name) = header.strip_prefix(b"$") else {
             return Err(cur.error_at(
                 line,
-                format!("expected a section header such as $Nodes, found '{}'", quote(header)),
+                format!(
+                    "expected a section header such as $Nodes, found '{}'",
+                    quote(header)
+                ),
             ));
         };
         if name.starts_with(b"End") {
@@ -242,7 +284,10 @@ pub fn parse_msh(bytes: &[u8], path: &Path) -> Result<MshFile, MeshError> {
                 b"PhysicalNames" | b"Entities" | b"Nodes" | b"Elements" => {
                     return Err(cur.error_at(
                         line,
-                        format!("missing $MeshFormat: the file must start with it, not ${}", quote(name)),
+                        format!(
+                            "missing $MeshFormat: the file must start with it, not ${}",
+                            quote(name)
+                        ),
                     ))
                 }
                 _ => cur.skip_section(name, line)?,
@@ -262,7 +307,9 @@ pub fn parse_msh(bytes: &[u8], path: &Path) -> Result<MshFile, MeshError> {
                 in_section(&mut cur, binary, "Nodes", line, |c| v41::read_nodes(c, b))?;
             }
             (b"Elements", MshFormat::V41Ascii | MshFormat::V41Binary) => {
-                in_section(&mut cur, binary, "Elements", line, |c| v41::read_elements(c, b, line))?;
+                in_section(&mut cur, binary, "Elements", line, |c| {
+                    v41::read_elements(c, b, line)
+                })?;
             }
             (b"Nodes", MshFormat::V22Ascii) => {
                 in_section(&mut cur, false, "Nodes", line, |c| v22::read_nodes(c, b))?;
@@ -270,12 +317,18 @@ pub fn parse_msh(bytes: &[u8], path: &Path) -> Result<MshFile, MeshError> {
             (b"Elements", MshFormat::V22Ascii) => {
                 in_section(&mut cur, false, "Elements", line, |c| v22::read_elements(c, b))?;
             }
-            _ => cur.skip_section(name, line)?,
+            _ => {
+                b.partitioned |= name == b"PartitionedEntities";
+                cur.skip_section(name, line)?;
+            }
         }
     }
     let end_line = cur.line();
     let Some(mut b) = builder else {
-        return Err(cur.error_at(end_line, "missing $MeshFormat section (is this a gmsh .msh file?)"));
+        return Err(cur.error_at(
+            end_line,
+            "missing $MeshFormat section (is this a gmsh .msh file?)",
+        ));
     };
     if !b.has_nodes {
         return Err(cur.error_at(end_line, "the file has no $Nodes section"));
@@ -283,7 +336,7 @@ pub fn parse_msh(bytes: &[u8], path: &Path) -> Result<MshFile, MeshError> {
     if !b.has_elements {
         return Err(cur.error_at(end_line, "the file has no $Elements section"));
     }
-    b.resolve_entities(path)?;
+    b.resolve_entities(path, bytes.len())?;
     Ok(MshFile {
         format: b.format,
         physical_names: b.physical_names,
@@ -327,10 +380,10 @@ fn read_mesh_format(cur: &mut Cursor, line: usize) -> Result<MshFormat, MeshErro
         other => return Err(cur.error(format!("file type {other} is neither 0 (ASCII) nor 1 (binary)"))),
     };
     let format = match (version, binary) {
-        (Some(v), false) if v == 4.1 => MshFormat::V41Ascii,
-        (Some(v), true) if v == 4.1 => MshFormat::V41Binary,
-        (Some(v), false) if v == 2.2 => MshFormat::V22Ascii,
-        (Some(v), true) if v == 2.2 => {
+        (Some(4.1), false) => MshFormat::V41Ascii,
+        (Some(4.1), true) => MshFormat::V41Binary,
+        (Some(2.2), false) => MshFormat::V22Ascii,
+        (Some(2.2), true) => {
             return Err(cur.error_at(
                 version_line,
                 "MSH 2.2 binary is not supported: save as MSH 4.1 (gmsh -format msh41 [-bin]) \
@@ -402,7 +455,7 @@ fn read_physical_names(cur: &mut Cursor, b: &mut Builder, line: usize) -> Result
         let name = match rest {
             [b'"', inner @ .., b'"'] => inner,
             [b'"', ..] => {
-                return Err(cur.error_at(name_line, format!("unterminated quoted name {}", quote(rest))));
+                return Err(cur.error_at(name_line, format!("unterminated quoted name '{}'", quote(rest))));
             }
             _ if rest.is_empty() => {
                 return Err(cur.error_at(name_line, format!("physical {} {tag} has no name", dim_word(dim))));

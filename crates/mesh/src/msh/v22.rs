@@ -41,7 +41,9 @@ pub(super) fn read_elements(cur: &mut Cursor, b: &mut Builder) -> Result<(), Mes
         b.claim_element_tag(cur, tag, line)?;
         let gmsh_type: i32 = cur.parse("an element type")?;
         let Some(info) = type_info(gmsh_type) else {
-            return Err(cur.error(format!("element {tag} has an unknown gmsh element type {gmsh_type}")));
+            return Err(cur.error(format!(
+                "element {tag} has an unknown gmsh element type {gmsh_type}"
+            )));
         };
         let n_tags: u64 = cur.parse("the number of element tags")?;
         let mut physical = 0;
@@ -56,16 +58,16 @@ pub(super) fn read_elements(cur: &mut Cursor, b: &mut Builder) -> Result<(), Mes
         }
         let mut nodes = Vec::with_capacity(info.nodes);
         for _ in 0..info.nodes {
-            let node: u64 = cur
-                .parse("a node tag")
-                .map_err(|e| with_context(e, || format!("element {tag} ({}) has too few nodes", info.name)))?;
+            let node: u64 = cur.parse("a node tag").map_err(|e| {
+                with_context(e, || format!("element {tag} ({}) has too few nodes", info.name))
+            })?;
             nodes.push(node);
         }
         cur.end_of_record(|| format!("the {} nodes of element {tag} ({})", info.nodes, info.name))?;
         let key = (gmsh_type, entity, nodes);
         if let Some(&first) = b.v22_copies.get(&key) {
             if let Some(el) = b.elements.get_mut(first) {
-                if physical == 0 || el.physical_tags.contains(&physical) {
+                if physical == 0 || !b.v22_groups.insert((first, physical)) {
                     return Err(cur.error_at(
                         line,
                         format!(
@@ -79,7 +81,9 @@ pub(super) fn read_elements(cur: &mut Cursor, b: &mut Builder) -> Result<(), Mes
             continue;
         }
         let (gmsh_type, entity_tag, nodes) = key;
-        b.v22_copies.insert((gmsh_type, entity_tag, nodes.clone()), b.elements.len());
+        b.v22_copies
+            .insert((gmsh_type, entity_tag, nodes.clone()), b.elements.len());
+        b.v22_groups.insert((b.elements.len(), physical));
         b.elements.push(RawElement {
             tag,
             gmsh_type,

@@ -133,7 +133,9 @@ pub(super) fn read_nodes(cur: &mut Cursor, b: &mut Builder) -> Result<(), MeshEr
         let entity_tag = int(cur, "the node block's entity tag")?;
         let parametric = int(cur, "the parametric flag (0 or 1)")?;
         let n = size(cur, "the number of nodes in the block")?;
-        end_record(cur, || format!("the header of node block {} {entity_tag}", dim_word(entity_dim)))?;
+        end_record(cur, || {
+            format!("the header of node block {} {entity_tag}", dim_word(entity_dim))
+        })?;
         // Parametric nodes carry u (curves), u v (surfaces), u v w (volumes).
         let n_param = match parametric {
             0 => 0,
@@ -191,7 +193,12 @@ pub(super) fn read_elements(cur: &mut Cursor, b: &mut Builder, header_line: usiz
         let entity_tag = int(cur, "the element block's entity tag")?;
         let gmsh_type = int(cur, "an element type")?;
         let n = size(cur, "the number of elements in the block")?;
-        end_record(cur, || format!("the header of element block {} {entity_tag}", dim_word(entity_dim)))?;
+        end_record(cur, || {
+            format!(
+                "the header of element block {} {entity_tag}",
+                dim_word(entity_dim)
+            )
+        })?;
         let Some(info) = type_info(gmsh_type) else {
             return Err(cur.error(format!(
                 "unknown gmsh element type {gmsh_type} (block on {} entity {entity_tag})",
@@ -215,7 +222,11 @@ pub(super) fn read_elements(cur: &mut Cursor, b: &mut Builder, header_line: usiz
         check_room(cur, n, 8 * (1 + info.nodes as u64), "elements")?;
         for _ in 0..n {
             let tag = size(cur, "an element tag")?;
-            let line = if cur.is_binary() { header_line } else { cur.token_line() };
+            let line = if cur.is_binary() {
+                header_line
+            } else {
+                cur.token_line()
+            };
             b.claim_element_tag(cur, tag, line)?;
             let mut nodes = Vec::with_capacity(info.nodes);
             for _ in 0..info.nodes {
@@ -224,7 +235,9 @@ pub(super) fn read_elements(cur: &mut Cursor, b: &mut Builder, header_line: usiz
                 })?;
                 nodes.push(node);
             }
-            end_record(cur, || format!("the {} nodes of element {tag} ({})", info.nodes, info.name))?;
+            end_record(cur, || {
+                format!("the {} nodes of element {tag} ({})", info.nodes, info.name)
+            })?;
             b.elements.push(RawElement {
                 tag,
                 gmsh_type,

@@ -1,0 +1,190 @@
+//! Sparsity pattern (once) and per-harmonic numeric assembly.
+//!
+//! The pattern is the upper triangle (row <= column) of the equation-space
+//! matrix in compressed columns, built once from the element connectivity and
+//! shared by every harmonic; each harmonic only fills a value array.
+
+use crate::dofs::DofMap;
+use crate::elements::{joint_stiffness, solid_stiffness, JointRule, JointSprings, SolidScratch};
+use crate::material::Elastic;
+use axijoint_mesh::{CellKind, Mesh};
+use nalgebra::DMatrix;
+
+/// Upper-triangular compressed-column pattern.
+#[derive(Clone, Debug)]
+pub struct Pattern {
+    /// Order of the matrix (number of equations).
+    pub n: usize,
+    /// Column pointers, `n + 1` of them.
+    pub col_ptr: Vec<usize>,
+    /// Row indices, sorted within each column.
+    pub row_idx: Vec<usize>,
+}
+
+impl Pattern {
+    /// The pattern of all element couplings; `elements` yields each element's
+    /// node list (joints: bottom nodes then top nodes).
+    pub fn new<'a>(dofs: &DofMap, elements: impl Iterator<Item = &'a [usize]>) -> Pattern {
+        let mut cols: Vec<Vec<usize>> = vec![Vec::new(); dofs.n_eq];
+        // The diagonal is always present (pinned rows need it).
+        for (e, col) in cols.iter_mut().enumerate() {
+            col.push(e);
+        }
+        let mut eqs = Vec::new();
+        for nodes in elements {
+            eqs.clear();
+            for &n in nodes {
+                for c in 0..3 {
+                    eqs.extend(dofs.terms(3 * n + c).map(|t| t.0));
+                }
+            }
+            for &a in &eqs {
+                for &b in &eqs {
+                    if a <= b {
+                        cols[b].push(a);
+                    }
+                }
+            }
+            // Keep memory in check on large meshes.
+            for &b in &eqs {
+                if cols[b].len() > 256 {
+                    cols[b].sort_unstable();
+                    cols[b].dedup();
+                }
+            }
+        }
+        let mut col_ptr = Vec::with_capacity(dofs.n_eq + 1);
+        let mut row_idx = Vec::new();
+        col_ptr.push(0);
+        for mut col in cols {
+            col.sort_unstable();
+            col.dedup();
+            row_idx.extend_from_slice(&col);
+            col_ptr.push(row_idx.len());
+        }
+        Pattern {
+            n: dofs.n_eq,
+            col_ptr,
+            row_idx,
+        }
+    }
+
+    /// Number of stored entries.
+    pub fn nnz(&self) -> usize {
+        self.row_idx.len()
+    }
+
+    /// Position of entry (row, col), row <= col, in the value array.
+    #[inline]
+    pub fn slot(&self, row: usize, col: usize) -> usize {
+        let (lo, hi) = (self.col_ptr[col], self.col_ptr[col + 1]);
+        match self.row_idx[lo..hi].binary_search(&row) {
+            Ok(i) => lo + i,
+            Err(_) => panic!("entry ({row}, {col}) is not in the pattern"),
+        }
+    }
+
+    /// `y = K x` for a symmetric matrix stored as this upper triangle.
+    pub fn sym_matvec(&self, values: &[f64], x: &[f64], y: &mut [f64]) {
+        y.fill(0.0);
+        for col in 0..self.n {
+            for k in self.col_ptr[col]..self.col_ptr[col + 1] {
+                let row = self.row_idx[k];
+                y[row] += values[k] * x[col];
+                if row != col {
+                    y[col] += values[k] * x[row];
+                }
+            }
+        }
+    }
+}
+
+/// Linear joint properties of one interface.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct JointModel {
+    /// Elastic stiffnesses.
+    pub springs: JointSprings,
+    /// Integration rule.
+    pub rule: JointRule,
+}
+
+/// Per-thread buffers of the element loop.
+pub(crate) struct ElementScratch {
+    solid: SolidScratch,
+    ke: DMatrix<f64>,
+    coords: Vec<[f64; 2]>,
+    nodes: Vec<usize>,
+}
+
+impl ElementScratch {
+    pub(crate) fn new() -> Self {
+        ElementScratch {
+            solid: SolidScratch::new(CellKind::Quad9),
+            ke: DMatrix::zeros(0, 0),
+            coords: Vec::with_capacity(9),
+            nodes: Vec::with_capacity(9),
+        }
+    }
+}
+
+/// Calls `f(nodes, K_e)` for every element (cells, then joint elements) with
+/// its stiffness of harmonic `m`; joint element nodes are bottom then top.
+pub(crate) fn for_each_element(
+    mesh: &Mesh,
+    materials: &[Elastic],
+    joints: &[JointModel],
+    m: u32,
+    s: &mut ElementScratch,
+    mut f: impl FnMut(&[usize], &DMatrix<f64>),
+) {
+    for cell in &mesh.cells {
+        s.coords.clear();
+        s.coords.extend(cell.nodes.iter().map(|&n| mesh.nodes[n]));
+        solid_stiffness(cell.kind, &s.coords, &materials[cell.body], m, &mut s.solid, &mut s.ke);
+        f(&cell.nodes, &s.ke);
+    }
+    for (joint, props) in mesh.joints.iter().zip(joints) {
+        for el in &joint.elements {
+            s.coords.clear();
+            s.coords.extend(el.bottom.iter().map(|&n| mesh.nodes[n]));
+            joint_stiffness(el.kind, &s.coords, &props.springs, m, props.rule, &mut s.ke);
+            s.nodes.clear();
+            s.nodes.extend_from_slice(&el.bottom);
+            s.nodes.extend_from_slice(&el.top);
+            f(&s.nodes, &s.ke);
+        }
+    }
+}
+
+/// Adds an element matrix into the value array (upper triangle), through the
+/// DOF terms; contributions to `pinned` equations are skipped.
+pub(crate) fn scatter(
+    pattern: &Pattern,
+    dofs: &DofMap,
+    pinned: &[bool],
+    nodes: &[usize],
+    ke: &DMatrix<f64>,
+    values: &mut [f64],
+) {
+    let nd = 3 * nodes.len();
+    for a in 0..nd {
+        let da = 3 * nodes[a / 3] + a % 3;
+        for (ea, ca) in dofs.terms(da) {
+            if pinned[ea] {
+                continue;
+            }
+            for b in 0..nd {
+                let k = ke[(a, b)];
+                if k == 0.0 {
+                    continue;
+                }
+                let db = 3 * nodes[b / 3] + b % 3;
+                for (eb, cb) in dofs.terms(db) {
+                    if ea <= eb && !pinned[eb] {
+                        values[pattern.slot(ea, eb)] += ca * cb * k;
+                    }
+                }
+            }
+        }
+    }
+}

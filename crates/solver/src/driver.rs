@@ -1,0 +1,384 @@
+//! From a scene to a solved linear model: mesh, check, model, loads, solve.
+
+use crate::assembly::JointModel;
+use crate::dofs::Component;
+use crate::error::SolverError;
+use crate::linear::{HarmonicFactor, Model};
+use crate::loads::{assemble_loads, load_resultants, HarmonicLoads, Resultants};
+use crate::scene::Scene;
+use axijoint_mesh::{gmsh, insert_joints, validate, Mesh, Validation};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+use std::time::Instant;
+
+/// A scene's mesh (joints inserted) after validation against the scene.
+pub fn mesh_scene(scene: &Scene, keep_msh: Option<&Path>) -> Result<(Mesh, Validation), SolverError> {
+    let path = scene.mesh_path();
+    let mut mesh = gmsh::load(&path, &scene.gmsh_parameters(), keep_msh)?;
+    scene.check(&mesh)?;
+    let report = validate(&mut mesh, &path)?;
+    insert_joints(&mut mesh, &scene.joint_specs(), &path)?;
+    Ok((mesh, report))
+}
+
+/// Support flags per node DOF (`3 * node + component`).
+pub fn support_flags(scene: &Scene, mesh: &Mesh) -> Vec<bool> {
+    let mut fixed = vec![false; 3 * mesh.nodes.len()];
+    for s in &scene.supports {
+        let comps = s.fix.components();
+        for n in support_nodes(mesh, &s.on) {
+            for c in 0..3 {
+                fixed[3 * n + c] |= comps[c];
+            }
+        }
+    }
+    fixed
+}
+
+/// Nodes of a physical curve (looked up first) or point group.
+pub fn support_nodes(mesh: &Mesh, name: &str) -> Vec<usize> {
+    let mut nodes: Vec<usize> = match mesh.curve(name) {
+        Some(c) => c.edges.iter().flat_map(|e| e.nodes.iter().copied()).collect(),
+        None => mesh.point(name).map(|p| p.nodes.clone()).unwrap_or_default(),
+    };
+    nodes.sort_unstable();
+    nodes.dedup();
+    nodes
+}
+
+/// Builds the linear model of a scene on its mesh.
+pub fn build_model(scene: &Scene, mesh: Mesh) -> Result<Model, SolverError> {
+    let materials = mesh
+        .bodies
+        .iter()
+        .map(|b| scene.materials[&b.name].elastic())
+        .collect();
+    let joints = mesh
+        .joints
+        .iter()
+        .map(|j| {
+            let config = &scene.joints[&j.name];
+            let kind = j.elements.first().map_or(axijoint_mesh::JointKind::Lin6, |e| e.kind);
+            JointModel {
+                springs: config.springs(),
+                rule: config.rule(kind),
+            }
+        })
+        .collect();
+    let fixed = support_flags(scene, &mesh);
+    Ok(Model::new(mesh, materials, joints, fixed)?)
+}
+
+/// Displacement amplitudes of one harmonic (node-major, `(u_r, u_z, u_theta)`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct HarmonicDisplacement {
+    /// Harmonic m.
+    pub m: u32,
+    /// Symmetric family (`u cos, v cos, w sin`); for m = 0 also the torsion w.
+    pub symmetric: Vec<f64>,
+    /// Antisymmetric family (`u sin, v sin, -w cos`); zero for m = 0.
+    pub antisymmetric: Vec<f64>,
+}
+
+/// The displacement field as Fourier amplitudes.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Displacements {
+    /// One entry per harmonic 0..=M.
+    pub harmonics: Vec<HarmonicDisplacement>,
+}
+
+impl Displacements {
+    /// `(u_r, u_z, u_theta)` of node `n` at angle `theta` (radians).
+    pub fn at(&self, n: usize, theta: f64) -> [f64; 3] {
+        let mut u = [0.0; 3];
+        for h in &self.harmonics {
+            let (s, a) = (&h.symmetric[3 * n..3 * n + 3], &h.antisymmetric[3 * n..3 * n + 3]);
+            if h.m == 0 {
+                u[0] += s[0];
+                u[1] += s[1];
+                u[2] += s[2];
+                continue;
+            }
+            let (sin, cos) = (f64::from(h.m) * theta).sin_cos();
+            u[0] += s[0] * cos + a[0] * sin;
+            u[1] += s[1] * cos + a[1] * sin;
+            u[2] += s[2] * sin - a[2] * cos;
+        }
+        u
+    }
+}
+
+/// Reaction of one support: nodal reactions summed to Cartesian resultants.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SupportReaction {
+    /// The support's physical name.
+    pub on: String,
+    /// `(Fx, Fy, Fz)` summed over harmonics.
+    pub force: [f64; 3],
+    /// `(Mx, My, Mz)` about the origin.
+    pub moment: [f64; 3],
+    /// Per harmonic: `[m, Fx, Fy, Fz, Mx, My, Mz]`.
+    pub per_harmonic: Vec<[f64; 7]>,
+}
+
+/// Wall-clock times of a linear solve, in seconds.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Timings {
+    /// Pattern and symbolic factorization (once).
+    pub setup: f64,
+    /// Assembly and numeric factorization of all harmonics.
+    pub factorize: f64,
+    /// Back-substitutions.
+    pub solve: f64,
+    /// Reactions.
+    pub reactions: f64,
+}
+
+/// A solved linear model.
+pub struct LinearRun {
+    /// The model (mesh, DOFs, pattern, symbolic factor).
+    pub model: Model,
+    /// Loads per harmonic.
+    pub loads: Vec<HarmonicLoads>,
+    /// Numeric factors of the harmonics that were factorized.
+    pub factors: Vec<HarmonicFactor>,
+    /// Displacement amplitudes.
+    pub displacements: Displacements,
+    /// Applied load resultants about the origin.
+    pub applied: Resultants,
+    /// Reactions per support.
+    pub reactions: Vec<SupportReaction>,
+    /// Times.
+    pub timings: Timings,
+}
+
+/// Meshes, builds and solves a scene with its joints as linear springs.
+/// Harmonics without load are not factorized unless `all_factors`.
+pub fn solve_linear(scene: &Scene, keep_msh: Option<&Path>, all_factors: bool) -> Result<LinearRun, SolverError> {
+    let (mesh, _) = mesh_scene(scene, keep_msh)?;
+    let m_max = scene.harmonics();
+    let loads = assemble_loads(scene, &mesh, m_max)?;
+    let t0 = Instant::now();
+    let model = build_model(scene, mesh)?;
+    let setup = t0.elapsed().as_secs_f64();
+    let loaded = |h: &HarmonicLoads| h.symmetric.iter().chain(&h.antisymmetric).any(|&v| v != 0.0);
+    let wanted: Vec<u32> = loads
+        .iter()
+        .filter(|h| all_factors || loaded(h))
+        .map(|h| h.m)
+        .collect();
+    let t1 = Instant::now();
+    let factors = model.factorize_all(&wanted)?;
+    let factorize = t1.elapsed().as_secs_f64();
+    let t2 = Instant::now();
+    let n = model.mesh.nodes.len();
+    let harmonics = loads
+        .par_iter()
+        .map(|h| match factors.iter().find(|f| f.m == h.m) {
+            Some(f) if loaded(h) => {
+                let mut u = model.solve(f, &[&h.symmetric, &h.antisymmetric]);
+                let antisymmetric = u.pop().unwrap_or_default();
+                let symmetric = u.pop().unwrap_or_default();
+                HarmonicDisplacement {
+                    m: h.m,
+                    symmetric,
+                    antisymmetric,
+                }
+            }
+            _ => HarmonicDisplacement {
+                m: h.m,
+                symmetric: vec![0.0; 3 * n],
+                antisymmetric: vec![0.0; 3 * n],
+            },
+        })
+        .collect();
+    let displacements = Displacements { harmonics };
+    let solve = t2.elapsed().as_secs_f64();
+    let t3 = Instant::now();
+    let reactions = reactions(scene, &model, &loads, &displacements);
+    let applied = load_resultants(&loads, &model.mesh, 0.0);
+    Ok(LinearRun {
+        model,
+        loads,
+        factors,
+        displacements,
+        applied,
+        reactions,
+        timings: Timings {
+            setup,
+            factorize,
+            solve,
+            reactions: t3.elapsed().as_secs_f64(),
+        },
+    })
+}
+
+/// Reactions `K u - f` at the supported DOFs, per support (a DOF fixed by
+/// several supports counts for the first), as Cartesian resultants.
+pub fn reactions(scene: &Scene, model: &Model, loads: &[HarmonicLoads], u: &Displacements) -> Vec<SupportReaction> {
+    let mesh = &model.mesh;
+    let n = mesh.nodes.len();
+    // Residual per harmonic and family, supported DOFs only.
+    let residuals: Vec<HarmonicLoads> = loads
+        .par_iter()
+        .zip(&u.harmonics)
+        .map(|(h, d)| {
+            let mut out = HarmonicLoads::zeros(h.m, n);
+            for (f, ud, o) in [
+                (&h.symmetric, &d.symmetric, &mut out.symmetric),
+                (&h.antisymmetric, &d.antisymmetric, &mut out.antisymmetric),
+            ] {
+                if ud.iter().all(|&v| v == 0.0) {
+                    continue;
+                }
+                let ku = model.internal_forces(h.m, ud);
+                for dof in 0..3 * n {
+                    if model.dofs.is_supported(dof) {
+                        o[dof] = ku[dof] - f[dof];
+                    }
+                }
+            }
+            out
+        })
+        .collect();
+    let mut claimed = vec![false; 3 * n];
+    scene
+        .supports
+        .iter()
+        .map(|s| {
+            let comps = s.fix.components();
+            let mut mine = vec![false; 3 * n];
+            for node in support_nodes(mesh, &s.on) {
+                for c in Component::ALL {
+                    let dof = 3 * node + c.index();
+                    if comps[c.index()] && !claimed[dof] {
+                        claimed[dof] = true;
+                        mine[dof] = true;
+                    }
+                }
+            }
+            let per: Vec<HarmonicLoads> = residuals
+                .iter()
+                .map(|r| {
+                    let mut h = HarmonicLoads::zeros(r.m, n);
+                    for dof in 0..3 * n {
+                        if mine[dof] {
+                            h.symmetric[dof] = r.symmetric[dof];
+                            h.antisymmetric[dof] = r.antisymmetric[dof];
+                        }
+                    }
+                    h
+                })
+                .collect();
+            let total = load_resultants(&per, mesh, 0.0);
+            let per_harmonic = per
+                .iter()
+                .map(|h| {
+                    let r = load_resultants(std::slice::from_ref(h), mesh, 0.0);
+                    let (f, m) = (r.force, r.moment);
+                    [f64::from(h.m), f[0], f[1], f[2], m[0], m[1], m[2]]
+                })
+                .collect();
+            SupportReaction {
+                on: s.on.clone(),
+                force: total.force,
+                moment: total.moment,
+                per_harmonic,
+            }
+        })
+        .collect()
+}
+
+/// Face-average Cartesian displacement `(ux, uy, uz)` of a physical curve
+/// swept around the axis: `(1/A) Integral(u dA)`, A = 2 pi Integral(r ds).
+/// Only harmonics 0 (uz) and 1 (ux from the symmetric, uy from the
+/// antisymmetric family) have a non-zero average.
+pub fn face_displacement(mesh: &Mesh, curve: &str, u: &Displacements) -> Option<[f64; 3]> {
+    let edges = &mesh.curve(curve)?.edges;
+    // w_i = 2 pi Integral(N_i r ds): the m = 0 load of a unit t_z.
+    let mut w = vec![0.0; mesh.nodes.len()];
+    let mut fe = Vec::new();
+    let mut coords = Vec::new();
+    for e in edges {
+        coords.clear();
+        coords.extend(e.nodes.iter().map(|&n| mesh.nodes[n]));
+        fe.clear();
+        fe.resize(3 * e.nodes.len(), 0.0);
+        crate::elements::edge_load(e.kind, &coords, 0, &|_, _| [0.0, 1.0, 0.0], &mut fe);
+        for (i, &n) in e.nodes.iter().enumerate() {
+            w[n] += fe[3 * i + 1];
+        }
+    }
+    let area: f64 = w.iter().sum();
+    if area <= 0.0 {
+        return None;
+    }
+    let mut out = [0.0; 3];
+    for h in &u.harmonics {
+        for (n, &wn) in w.iter().enumerate().filter(|(_, &wn)| wn != 0.0) {
+            let (s, a) = (&h.symmetric[3 * n..3 * n + 3], &h.antisymmetric[3 * n..3 * n + 3]);
+            match h.m {
+                0 => out[2] += wn * s[1],
+                1 => {
+                    out[0] += wn * (s[0] - s[2]) / 2.0;
+                    out[1] += wn * (a[0] - a[2]) / 2.0;
+                }
+                _ => {}
+            }
+        }
+    }
+    Some(out.map(|v| v / area))
+}
+
+/// Largest displacement magnitude over the nodes at 16 sections of the turn.
+pub fn max_displacement(n_nodes: usize, u: &Displacements) -> f64 {
+    let mut max: f64 = 0.0;
+    for k in 0..16 {
+        let theta = std::f64::consts::PI * f64::from(k) / 8.0;
+        for n in 0..n_nodes {
+            let d = u.at(n, theta);
+            max = max.max((d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt());
+        }
+    }
+    max
+}
+
+/// The header of a solved run (see [`crate::results`]).
+pub fn solution_header(scene: &Scene, run: &LinearRun) -> crate::results::SolutionHeader {
+    use crate::results::*;
+    let mesh = &run.model.mesh;
+    let loaded_faces = scene
+        .loads
+        .iter()
+        .filter_map(|l| face_displacement(mesh, l.on(), &run.displacements).map(|d| (l.on().to_string(), d)))
+        .collect();
+    let h = run.displacements.harmonics.len();
+    SolutionHeader {
+        format: FORMAT.into(),
+        version: VERSION,
+        scene_file: scene.path.display().to_string(),
+        scene: scene.clone(),
+        mesh: MeshRef {
+            file: "mesh.msh".into(),
+            nodes: mesh.nodes.len(),
+            elements: mesh.cells.len(),
+            joints: mesh.joints.iter().map(|j| j.name.clone()).collect(),
+            checksum: mesh_checksum(mesh),
+        },
+        dofs_per_harmonic: run.model.n_eq(),
+        harmonics: run.displacements.harmonics.iter().map(|d| d.m).collect(),
+        displacement: ArrayRef {
+            file: "displacement.f64".into(),
+            dtype: "f64le".into(),
+            shape: vec![h, 2, mesh.nodes.len(), 3],
+            layout: "[harmonic 0..=M][family: symmetric, antisymmetric][node][u_r, u_z, u_theta]".into(),
+        },
+        applied: run.applied.into(),
+        reactions: run.reactions.clone(),
+        loaded_faces,
+        max_displacement: max_displacement(mesh.nodes.len(), &run.displacements),
+        timings: run.timings.clone(),
+        extra: serde_json::Value::Null,
+    }
+}

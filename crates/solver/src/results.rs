@@ -1,0 +1,256 @@
+//! The solution folder: what `axijoint solve` writes and `axijoint report`
+//! reads (format documented in `docs/outputs.md`).
+//!
+//! ```text
+//! DIR/solution.json     header: scene echo, mesh reference, reactions, timings
+//! DIR/displacement.f64  amplitudes, little-endian f64, shape [harmonic][family][node][component]
+//! DIR/mesh.msh          the mesh that was solved (gmsh's output, or a copy of the input .msh)
+//! ```
+//!
+//! A folder is written beside the target under a temporary name and renamed
+//! into place only when complete; an existing target is replaced only if it is
+//! an earlier solution folder (it has `solution.json`) or empty.
+
+use crate::driver::{Displacements, HarmonicDisplacement, SupportReaction, Timings};
+use crate::error::SolverError;
+use crate::loads::Resultants;
+use crate::scene::Scene;
+use axijoint_mesh::{insert_joints, read_msh, validate, Mesh};
+use serde::{Deserialize, Serialize};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+/// Identifies the header.
+pub const FORMAT: &str = "axijoint-solution";
+/// Header version.
+pub const VERSION: u32 = 1;
+
+/// Where the mesh is and how to recognise it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MeshRef {
+    /// File name inside the folder.
+    pub file: String,
+    /// Nodes after joint insertion.
+    pub nodes: usize,
+    /// 2D elements.
+    pub elements: usize,
+    /// Joint names, in model order.
+    pub joints: Vec<String>,
+    /// FNV-1a hash of the node coordinates (hex), checked on reading.
+    pub checksum: String,
+}
+
+/// A binary array beside the header.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ArrayRef {
+    /// File name inside the folder.
+    pub file: String,
+    /// Always `f64le`.
+    pub dtype: String,
+    /// Dimensions, outermost first.
+    pub shape: Vec<usize>,
+    /// Meaning of the dimensions.
+    pub layout: String,
+}
+
+/// Cartesian resultants (force, moment about the origin).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ResultantsOut {
+    /// `(Fx, Fy, Fz)`.
+    pub force: [f64; 3],
+    /// `(Mx, My, Mz)`.
+    pub moment: [f64; 3],
+}
+
+impl From<Resultants> for ResultantsOut {
+    fn from(r: Resultants) -> Self {
+        ResultantsOut {
+            force: r.force,
+            moment: r.moment,
+        }
+    }
+}
+
+/// The header `solution.json`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SolutionHeader {
+    /// [`FORMAT`].
+    pub format: String,
+    /// [`VERSION`].
+    pub version: u32,
+    /// The scene file that was run.
+    pub scene_file: String,
+    /// The scene as run.
+    pub scene: Scene,
+    /// The mesh.
+    pub mesh: MeshRef,
+    /// Unknowns per harmonic.
+    pub dofs_per_harmonic: usize,
+    /// Harmonics 0..=M.
+    pub harmonics: Vec<u32>,
+    /// Displacement amplitudes.
+    pub displacement: ArrayRef,
+    /// Applied loads.
+    pub applied: ResultantsOut,
+    /// Reactions per support.
+    pub reactions: Vec<SupportReaction>,
+    /// Face-average Cartesian displacement `(ux, uy, uz)` of each loaded curve.
+    pub loaded_faces: std::collections::BTreeMap<String, [f64; 3]>,
+    /// Largest displacement magnitude over the nodes and the sections 0, pi/8, ..., 2 pi.
+    pub max_displacement: f64,
+    /// Wall-clock seconds.
+    pub timings: Timings,
+    /// Extra run information (iterations, joint states): free JSON.
+    #[serde(default)]
+    pub extra: serde_json::Value,
+}
+
+/// FNV-1a over the bit patterns of the coordinates.
+pub fn mesh_checksum(mesh: &Mesh) -> String {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for p in &mesh.nodes {
+        for v in p {
+            for b in v.to_bits().to_le_bytes() {
+                h ^= u64::from(b);
+                h = h.wrapping_mul(0x0100_0000_01b3);
+            }
+        }
+    }
+    format!("{h:016x}")
+}
+
+fn out_err(path: &Path, message: impl std::fmt::Display) -> SolverError {
+    SolverError::Output {
+        path: path.to_path_buf(),
+        message: message.to_string(),
+    }
+}
+
+/// Writes a solution folder at `dir` (see the module doc). `msh` is the mesh
+/// file to copy in.
+pub fn write_solution(
+    dir: &Path,
+    header: &SolutionHeader,
+    u: &Displacements,
+    msh: &Path,
+) -> Result<(), SolverError> {
+    for h in &u.harmonics {
+        if h.symmetric.iter().chain(&h.antisymmetric).any(|v| !v.is_finite()) {
+            return Err(out_err(
+                dir,
+                format!("harmonic {}: the displacement is not finite; nothing written", h.m),
+            ));
+        }
+    }
+    if dir.exists() {
+        let reusable = dir.join("solution.json").is_file()
+            || std::fs::read_dir(dir).map(|mut d| d.next().is_none()).unwrap_or(false);
+        if !reusable {
+            return Err(out_err(
+                dir,
+                "exists and is not an axijoint solution folder; choose another output folder",
+            ));
+        }
+    }
+    let parent = match dir.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    std::fs::create_dir_all(&parent).map_err(|e| out_err(&parent, e))?;
+    let name = dir
+        .file_name()
+        .ok_or_else(|| out_err(dir, "not a folder name"))?
+        .to_string_lossy()
+        .into_owned();
+    let stage = parent.join(format!(".{name}.partial-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&stage);
+    std::fs::create_dir_all(&stage).map_err(|e| out_err(&stage, e))?;
+    let result = (|| {
+        std::fs::copy(msh, stage.join(&header.mesh.file)).map_err(|e| out_err(msh, e))?;
+        let bin = stage.join(&header.displacement.file);
+        let mut w = std::io::BufWriter::new(std::fs::File::create(&bin).map_err(|e| out_err(&bin, e))?);
+        for h in &u.harmonics {
+            for v in h.symmetric.iter().chain(&h.antisymmetric) {
+                w.write_all(&v.to_le_bytes()).map_err(|e| out_err(&bin, e))?;
+            }
+        }
+        w.flush().map_err(|e| out_err(&bin, e))?;
+        let json = stage.join("solution.json");
+        let text = serde_json::to_string_pretty(header).map_err(|e| out_err(&json, e))?;
+        std::fs::write(&json, text).map_err(|e| out_err(&json, e))?;
+        let old = parent.join(format!(".{name}.old-{}", std::process::id()));
+        if dir.exists() {
+            std::fs::rename(dir, &old).map_err(|e| out_err(dir, e))?;
+        }
+        std::fs::rename(&stage, dir).map_err(|e| out_err(dir, e))?;
+        let _ = std::fs::remove_dir_all(&old);
+        Ok(())
+    })();
+    if result.is_err() {
+        let _ = std::fs::remove_dir_all(&stage);
+    }
+    result
+}
+
+/// A solution read back: header, mesh (joints inserted as in the run) and
+/// displacement amplitudes.
+pub struct SavedSolution {
+    /// The header.
+    pub header: SolutionHeader,
+    /// The mesh, rebuilt from the saved `.msh` and the scene's joints.
+    pub mesh: Mesh,
+    /// Amplitudes.
+    pub displacements: Displacements,
+}
+
+/// Reads a solution folder, rebuilding and checking its mesh.
+pub fn read_solution(dir: &Path) -> Result<SavedSolution, SolverError> {
+    let json = dir.join("solution.json");
+    let text = std::fs::read_to_string(&json).map_err(|e| out_err(&json, e))?;
+    let header: SolutionHeader = serde_json::from_str(&text).map_err(|e| out_err(&json, e))?;
+    if header.format != FORMAT || header.version != VERSION {
+        return Err(out_err(
+            &json,
+            format!("not an {FORMAT} version {VERSION} header ({} {})", header.format, header.version),
+        ));
+    }
+    let msh = dir.join(&header.mesh.file);
+    let mut mesh = read_msh(&msh)?;
+    validate(&mut mesh, &msh)?;
+    insert_joints(&mut mesh, &header.scene.joint_specs(), &msh)?;
+    if mesh.nodes.len() != header.mesh.nodes || mesh_checksum(&mesh) != header.mesh.checksum {
+        return Err(out_err(&msh, "the mesh does not match solution.json (nodes or checksum differ)"));
+    }
+    let bin = dir.join(&header.displacement.file);
+    let bytes = std::fs::read(&bin).map_err(|e| out_err(&bin, e))?;
+    let n = 3 * mesh.nodes.len();
+    let expected = header.harmonics.len() * 2 * n * 8;
+    if bytes.len() != expected {
+        return Err(out_err(
+            &bin,
+            format!("{} bytes, expected {expected} (truncated or not this solution's)", bytes.len()),
+        ));
+    }
+    let values: Vec<f64> = bytes
+        .chunks_exact(8)
+        .map(|c| f64::from_le_bytes(c.try_into().expect("8 bytes")))
+        .collect();
+    if values.iter().any(|v| !v.is_finite()) {
+        return Err(out_err(&bin, "contains values that are not finite"));
+    }
+    let harmonics = header
+        .harmonics
+        .iter()
+        .enumerate()
+        .map(|(k, &m)| HarmonicDisplacement {
+            m,
+            symmetric: values[2 * k * n..(2 * k + 1) * n].to_vec(),
+            antisymmetric: values[(2 * k + 1) * n..(2 * k + 2) * n].to_vec(),
+        })
+        .collect();
+    Ok(SavedSolution {
+        header,
+        mesh,
+        displacements: Displacements { harmonics },
+    })
+}

@@ -1,0 +1,378 @@
+//! Semantic checks of a scene: values alone, then names against a mesh.
+
+use super::{Family, JointLaw, Load, RuleKind, Scene, SceneError};
+use crate::loads::{face_section, point_locations, point_off_axis, tolerance, ANTISYMMETRIC_ZERO, RING_ON_AXIS};
+use crate::material::MaterialError;
+use axijoint_mesh::{CurveSet, JointKind, Mesh};
+use std::collections::BTreeSet;
+
+/// Comma-separated names, or `none`.
+fn list<'a>(names: impl Iterator<Item = &'a str>) -> String {
+    let v: Vec<&str> = names.collect();
+    if v.is_empty() {
+        "none".into()
+    } else {
+        v.join(", ")
+    }
+}
+
+/// True if `text` has `name` as a whole identifier (letters, digits, `_`).
+fn uses_identifier(text: &str, name: &str) -> bool {
+    let is_ident = |c: char| c.is_ascii_alphanumeric() || c == '_';
+    text.match_indices(name).any(|(at, _)| {
+        let before = text[..at].chars().next_back();
+        let after = text[at + name.len()..].chars().next();
+        !before.is_some_and(is_ident) && !after.is_some_and(is_ident)
+    })
+}
+
+impl Scene {
+    fn invalid(&self, key: impl Into<String>, message: impl Into<String>) -> SceneError {
+        SceneError::Invalid {
+            path: self.path.clone(),
+            key: key.into(),
+            message: message.into(),
+        }
+    }
+
+    fn finite(&self, key: &str, values: &[f64]) -> Result<(), SceneError> {
+        match values.iter().find(|v| !v.is_finite()) {
+            Some(v) => Err(self.invalid(key, format!("{v} is not a finite number"))),
+            None => Ok(()),
+        }
+    }
+
+    /// Checks every value that needs no mesh: units, mesh file and gmsh
+    /// parameters (reading the `.geo` to see that it uses each parameter),
+    /// materials (E > 0, -1 < nu < 0.5), joints (stiffnesses >= 0, C >= 0,
+    /// 0 <= phi < 90, rule), supports, loads (finite, harmonic within
+    /// `harmonics`), sections, solver settings and cuts.
+    pub fn check_values(&self) -> Result<(), SceneError> {
+        if self.units.consistent() == Some(false) {
+            return Err(self.invalid(
+                "units",
+                format!(
+                    "stress unit {} is not force / length^2 = {} / {}^2",
+                    self.units.stress, self.units.force, self.units.length
+                ),
+            ));
+        }
+        self.check_mesh_source()?;
+        for (name, mat) in &self.materials {
+            if let Err(e) = mat.elastic().validate() {
+                let field = match e {
+                    MaterialError::Modulus { .. } => "E",
+                    MaterialError::Poisson { .. } => "nu",
+                };
+                return Err(self.invalid(format!("materials.{name}.{field}"), e.to_string()));
+            }
+        }
+        for (name, joint) in &self.joints {
+            self.check_joint(name, joint)?;
+        }
+        for (i, s) in self.supports.iter().enumerate() {
+            if s.fix.is_empty() {
+                return Err(self.invalid(
+                    format!("supports[{i}].fix"),
+                    "fixes nothing: list some of \"r\", \"z\", \"theta\" or write \"all\"",
+                ));
+            }
+        }
+        for (i, load) in self.loads.iter().enumerate() {
+            self.check_load(i, load)?;
+        }
+        if let Some(sections) = &self.sections {
+            let t = &sections.theta_deg;
+            self.finite("sections.theta_deg", t)?;
+            let in_range = t.iter().all(|&a| (0.0..360.0).contains(&a));
+            let increasing = t.windows(2).all(|w| w[0] < w[1]);
+            if t.is_empty() || !in_range || !increasing {
+                return Err(self.invalid(
+                    "sections.theta_deg",
+                    "give at least one angle, in degrees in [0, 360), strictly increasing",
+                ));
+            }
+        }
+        let eps = self.solver.epsilon;
+        if !(eps > 0.0 && eps < 1.0) {
+            return Err(self.invalid(
+                "solver.epsilon",
+                format!("{eps} is not allowed: the residual ratio tolerance lies strictly between 0 and 1"),
+            ));
+        }
+        if self.solver.max_iterations == 0 {
+            return Err(self.invalid("solver.max_iterations", "must be at least 1"));
+        }
+        self.check_cuts()
+    }
+
+    fn check_mesh_source(&self) -> Result<(), SceneError> {
+        let ext = std::path::Path::new(&self.mesh.file)
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
+        for (name, value) in &self.mesh.parameters {
+            self.finite(&format!("mesh.parameters.{name}"), &[*value])?;
+        }
+        match ext.as_deref() {
+            Some("msh") if !self.mesh.parameters.is_empty() => Err(self.invalid(
+                "mesh.parameters",
+                "a .msh is read as it is: gmsh parameters apply to a .geo only",
+            )),
+            Some("msh") => Ok(()),
+            Some("geo") => {
+                let path = self.mesh_path();
+                let text = std::fs::read_to_string(&path).map_err(|source| SceneError::Io { path, source })?;
+                match self.mesh.parameters.keys().find(|k| !uses_identifier(&text, k)) {
+                    Some(name) => Err(self.invalid(
+                        format!("mesh.parameters.{name}"),
+                        format!(
+                            "{} does not use a parameter named '{name}' (gmsh would ignore it)",
+                            self.mesh_path().display()
+                        ),
+                    )),
+                    None => Ok(()),
+                }
+            }
+            _ => Err(self.invalid(
+                "mesh.file",
+                format!("'{}' is neither a .geo nor a .msh file", self.mesh.file),
+            )),
+        }
+    }
+
+    fn check_joint(&self, name: &str, joint: &super::JointConfig) -> Result<(), SceneError> {
+        let key = |k: &str| format!("joints.{name}.{k}");
+        if let Err(crate::elements::JointError::Stiffness { name: k, value }) = joint.springs().validate() {
+            return Err(self.invalid(key(k), format!("{value} is not allowed: a stiffness is a finite number >= 0")));
+        }
+        if joint.bottom.is_some() != joint.top.is_some() {
+            let missing = if joint.bottom.is_none() { "bottom" } else { "top" };
+            return Err(self.invalid(
+                key(missing),
+                "give both `bottom` and `top` (physical surfaces), or neither",
+            ));
+        }
+        if let JointLaw::MohrCoulomb(mc) = joint.law {
+            let law = |k: &str| key(&format!("law.{k}"));
+            if !(mc.cohesion.is_finite() && mc.cohesion >= 0.0) {
+                return Err(self.invalid(law("cohesion"), format!("{} is not allowed: C >= 0", mc.cohesion)));
+            }
+            if !(0.0..90.0).contains(&mc.friction_deg) {
+                return Err(self.invalid(
+                    law("friction_deg"),
+                    format!("{} is not allowed: the friction angle lies in [0, 90) degrees", mc.friction_deg),
+                ));
+            }
+            let t = mc.tensile_strength;
+            if !(t.is_finite() && t >= 0.0) {
+                return Err(self.invalid(law("tensile_strength"), format!("{t} is not allowed: it must be >= 0")));
+            }
+            let apex = mc.cohesion / mc.tan_phi();
+            if t > apex {
+                return Err(self.invalid(
+                    law("tensile_strength"),
+                    format!("{t} lies beyond the Mohr-Coulomb apex C / tan(phi) = {apex}, where the shear strength is zero"),
+                ));
+            }
+        }
+        match (joint.rule, joint.points) {
+            (RuleKind::Paper, Some(_)) => Err(self.invalid(
+                key("points"),
+                "the paper's rule has one point at the element centre: leave out `points`",
+            )),
+            (_, Some(_)) => {
+                let rule = joint.rule(JointKind::Lin4);
+                rule.validate().map_err(|e| self.invalid(key("points"), e.to_string()))
+            }
+            (_, None) => Ok(()),
+        }
+    }
+
+    fn check_load(&self, i: usize, load: &Load) -> Result<(), SceneError> {
+        let key = |k: &str| format!("loads[{i}].{k}");
+        let m = load.max_harmonic();
+        let harmonic_key = match load {
+            Load::Traction(_) | Load::Ring(_) => "harmonic",
+            Load::Resultant(_) | Load::Point(_) => "force",
+        };
+        if m > self.harmonics {
+            return Err(self.invalid(
+                key(harmonic_key),
+                format!("the load has a part of harmonic {m} but `harmonics` is {}", self.harmonics),
+            ));
+        }
+        match load {
+            Load::Traction(l) => {
+                for (name, t) in ["t_r", "t_z", "t_theta"].iter().zip(&l.t) {
+                    self.finite(&key(name), &[t.c, t.r, t.z])?;
+                }
+                if l.harmonic == 0 && l.family == Family::Antisymmetric {
+                    return Err(self.invalid(key("family"), ANTISYMMETRIC_ZERO));
+                }
+            }
+            Load::Resultant(l) => {
+                self.finite(&key("force"), &l.force)?;
+                self.finite(&key("at_z"), l.at_z.as_slice())?;
+                self.finite(&key("torque"), &[l.torque])?;
+                self.finite(&key("moment"), &l.moment)?;
+            }
+            Load::Ring(l) => {
+                for (name, f) in ["f_r", "f_z", "f_theta"].iter().zip(&l.f) {
+                    self.finite(&key(name), &[*f])?;
+                }
+                if l.harmonic == 0 && l.family == Family::Antisymmetric {
+                    return Err(self.invalid(key("family"), ANTISYMMETRIC_ZERO));
+                }
+            }
+            Load::Point(l) => self.finite(&key("force"), &l.force)?,
+        }
+        if load.on().is_empty() {
+            return Err(self.invalid(key("on"), "empty name"));
+        }
+        Ok(())
+    }
+
+    fn check_cuts(&self) -> Result<(), SceneError> {
+        let mut names = BTreeSet::new();
+        for (i, cut) in self.cuts.iter().enumerate() {
+            let key = |k: &str| format!("cuts[{i}].{k}");
+            let ok_char = |c: char| c.is_ascii_alphanumeric() || "-_.".contains(c);
+            if cut.name.is_empty() || !cut.name.chars().all(ok_char) {
+                return Err(self.invalid(
+                    key("name"),
+                    format!("'{}': use letters, digits, '-', '_' or '.' (it names output files)", cut.name),
+                ));
+            }
+            if !names.insert(cut.name.as_str()) {
+                return Err(self.invalid(key("name"), format!("cut '{}' is named twice", cut.name)));
+            }
+            for (k, p) in [("from", cut.from), ("to", cut.to)] {
+                self.finite(&key(k), &p)?;
+                if p[0] < 0.0 {
+                    return Err(self.invalid(key(k), format!("r = {} < 0: the mesh lives in r >= 0", p[0])));
+                }
+            }
+            if cut.from == cut.to {
+                return Err(self.invalid(key("to"), "the cut has zero length (`from` equals `to`)"));
+            }
+            if !(cut.spacing.is_finite() && cut.spacing > 0.0) {
+                return Err(self.invalid(key("spacing"), format!("{} is not allowed: it must be > 0", cut.spacing)));
+            }
+            self.finite(&key("theta_deg"), &cut.theta_deg)?;
+            if cut.theta_deg.is_empty() {
+                return Err(self.invalid(key("theta_deg"), "give at least one angle"));
+            }
+        }
+        Ok(())
+    }
+
+    /// The physical curve `name`, or an error at `key` listing the curves.
+    pub(crate) fn curve<'m>(&self, mesh: &'m Mesh, name: &str, key: &str) -> Result<&'m CurveSet, SceneError> {
+        mesh.curve(name).ok_or_else(|| SceneError::UnknownName {
+            path: self.path.clone(),
+            key: key.into(),
+            what: "curve",
+            name: name.into(),
+            known: list(mesh.curves.iter().map(|c| c.name.as_str())),
+        })
+    }
+
+    /// The nodes of physical point `name`, or an error at `key` listing the points.
+    pub(crate) fn point_nodes<'m>(&self, mesh: &'m Mesh, name: &str, key: &str) -> Result<&'m [usize], SceneError> {
+        mesh.point(name)
+            .map(|p| p.nodes.as_slice())
+            .ok_or_else(|| SceneError::UnknownName {
+                path: self.path.clone(),
+                key: key.into(),
+                what: "point",
+                name: name.into(),
+                known: list(mesh.points.iter().map(|p| p.name.as_str())),
+            })
+    }
+
+    fn surface(&self, mesh: &Mesh, name: &str, key: String) -> Result<(), SceneError> {
+        match mesh.body(name) {
+            Some(_) => Ok(()),
+            None => Err(SceneError::UnknownName {
+                path: self.path.clone(),
+                key,
+                what: "surface",
+                name: name.into(),
+                known: list(mesh.bodies.iter().map(|b| b.name.as_str())),
+            }),
+        }
+    }
+
+    /// [`Scene::check_values`], then every name against `mesh` (before or
+    /// after joint insertion): each material's surface exists and each
+    /// surface has a material; joint curves and their sides, support and
+    /// load targets exist; a resultant's curve is a flat face perpendicular
+    /// to the axis; ring loads are off the axis and point loads on it.
+    pub fn check(&self, mesh: &Mesh) -> Result<(), SceneError> {
+        self.check_values()?;
+        for name in self.materials.keys() {
+            self.surface(mesh, name, format!("materials.{name}"))?;
+        }
+        if let Some(body) = mesh.bodies.iter().find(|b| !self.materials.contains_key(&b.name)) {
+            return Err(self.invalid(
+                "materials",
+                format!(
+                    "physical surface '{}' has no material (materials given: {})",
+                    body.name,
+                    list(self.materials.keys().map(String::as_str))
+                ),
+            ));
+        }
+        for (name, joint) in &self.joints {
+            self.curve(mesh, name, &format!("joints.{name}"))?;
+            for (side, body) in [("bottom", &joint.bottom), ("top", &joint.top)] {
+                if let Some(body) = body {
+                    self.surface(mesh, body, format!("joints.{name}.{side}"))?;
+                }
+            }
+        }
+        for (i, s) in self.supports.iter().enumerate() {
+            if mesh.curve(&s.on).is_none() && mesh.point(&s.on).is_none() {
+                let known = mesh
+                    .curves
+                    .iter()
+                    .map(|c| c.name.as_str())
+                    .chain(mesh.points.iter().map(|p| p.name.as_str()));
+                return Err(SceneError::UnknownName {
+                    path: self.path.clone(),
+                    key: format!("supports[{i}].on"),
+                    what: "curve or point",
+                    name: s.on.clone(),
+                    known: list(known),
+                });
+            }
+        }
+        let tol = tolerance(mesh);
+        for (i, load) in self.loads.iter().enumerate() {
+            let key = format!("loads[{i}].on");
+            match load {
+                Load::Traction(l) => {
+                    self.curve(mesh, &l.on, &key)?;
+                }
+                Load::Resultant(l) => {
+                    let curve = self.curve(mesh, &l.on, &key)?;
+                    face_section(mesh, curve).map_err(|e| self.invalid(key, e))?;
+                }
+                Load::Ring(l) => {
+                    let nodes = self.point_nodes(mesh, &l.on, &key)?;
+                    if point_locations(mesh, nodes).iter().any(|(r, _)| *r <= tol) {
+                        return Err(self.invalid(key, RING_ON_AXIS));
+                    }
+                }
+                Load::Point(l) => {
+                    let nodes = self.point_nodes(mesh, &l.on, &key)?;
+                    if let Some((r, _)) = point_locations(mesh, nodes).into_iter().find(|(r, _)| *r > tol) {
+                        return Err(self.invalid(key, point_off_axis(r)));
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+}

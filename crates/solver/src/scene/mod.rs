@@ -1,0 +1,212 @@
+//! Scene files: one JSON document that says everything a run needs.
+//!
+//! The format (every key, type, unit and default) is documented in
+//! `docs/scene-format.md`. Reading is strict: every object refuses unknown
+//! keys, and an error names the file and the key path, e.g.
+//! `geo/p.json: loads[1].force: invalid length 2, expected 3 (line 14, column 31)`.
+//!
+//! ```
+//! use axijoint_solver::scene::Scene;
+//! let text = r#"{
+//!   "mesh": {"file": "block.msh"},
+//!   "materials": {"block": {"E": 100.0, "nu": 0.25}},
+//!   "supports": [{"on": "bottom", "fix": "all"}],
+//!   "loads": [{"type": "resultant", "on": "top", "force": [0, 0, -1]}],
+//!   "harmonics": 1
+//! }"#;
+//! let scene = Scene::from_str(text, "cases/block.json").unwrap();
+//! assert_eq!(scene.mesh_path(), std::path::Path::new("cases/block.msh"));
+//! assert_eq!(scene.harmonics(), 1);
+//!
+//! let typo = text.replace("\"nu\"", "\"poisson\"");
+//! let err = Scene::from_str(&typo, "cases/block.json").unwrap_err();
+//! assert_eq!(err.key(), Some("materials.block.poisson"));
+//! ```
+//!
+//! Two levels of checking: [`Scene::from_str`] / [`Scene::from_path`] read
+//! types and shapes; [`Scene::check`] checks values and, against a mesh,
+//! the physical names.
+
+mod check;
+mod error;
+mod joint;
+mod load;
+mod settings;
+
+pub use error::SceneError;
+pub use joint::{JointConfig, JointLaw, MohrCoulomb, RuleKind, ShearCheck};
+pub use load::{Family, Linear, Load, PointLoad, ResultantLoad, RingLoad, TractionLoad};
+pub use settings::{Cut, Fix, Material, MeshSource, Outputs, Sections, SolverMethod, SolverSettings, Support, Units};
+
+use axijoint_mesh::JointSpec;
+use serde::de::{self, MapAccess, Visitor};
+use serde::{Deserialize, Deserializer, Serialize};
+use std::collections::BTreeMap;
+use std::fmt;
+use std::marker::PhantomData;
+use std::path::{Path, PathBuf};
+
+/// A scene: mesh, materials, joints, supports, loads and run settings.
+///
+/// Plain data with public fields; `path` is the file it was read from
+/// (relative paths inside the scene are resolved against its folder).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    /// Free title, echoed in reports.
+    #[serde(default)]
+    pub title: String,
+    /// Free notes, echoed in reports.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub description: Option<String>,
+    /// Unit labels.
+    #[serde(default)]
+    pub units: Units,
+    /// The `.geo` or `.msh` and its gmsh parameters.
+    pub mesh: MeshSource,
+    /// Material of each physical surface, by name.
+    #[serde(deserialize_with = "unique_map")]
+    pub materials: BTreeMap<String, Material>,
+    /// Joints, by physical curve name.
+    #[serde(default, deserialize_with = "unique_map")]
+    pub joints: BTreeMap<String, JointConfig>,
+    /// Supports.
+    #[serde(default)]
+    pub supports: Vec<Support>,
+    /// Loads.
+    #[serde(default)]
+    pub loads: Vec<Load>,
+    /// Highest harmonic M: the run solves harmonics 0..=M.
+    pub harmonics: u32,
+    /// Theta sections of the joint law; `None`: the paper's M + 1 sections.
+    #[serde(default)]
+    pub sections: Option<Sections>,
+    /// Solver settings.
+    #[serde(default)]
+    pub solver: SolverSettings,
+    /// Cuts for stress profiles.
+    #[serde(default)]
+    pub cuts: Vec<Cut>,
+    /// Result files.
+    #[serde(default)]
+    pub outputs: Outputs,
+    /// The scene file (not part of the JSON).
+    #[serde(skip)]
+    pub path: PathBuf,
+}
+
+impl Scene {
+    /// Reads and parses a scene file (types and shapes only; see
+    /// [`Scene::check`]).
+    pub fn from_path(path: impl AsRef<Path>) -> Result<Scene, SceneError> {
+        let path = path.as_ref();
+        let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        Scene::from_str(&text, path)
+    }
+
+    /// Parses scene text; `path` is the file it stands for (for messages and
+    /// to resolve `mesh.file`).
+    #[allow(clippy::should_implement_trait)]
+    pub fn from_str(text: &str, path: impl AsRef<Path>) -> Result<Scene, SceneError> {
+        let path = path.as_ref();
+        let parse_error = |key: String, e: serde_json::Error| SceneError::Parse {
+            path: path.to_path_buf(),
+            key,
+            message: strip_location(&e),
+            line: e.line(),
+            column: e.column(),
+        };
+        let mut de = serde_json::Deserializer::from_str(text);
+        let mut scene: Scene = serde_path_to_error::deserialize(&mut de).map_err(|e| {
+            let key = e.path().to_string();
+            parse_error(key, e.into_inner())
+        })?;
+        de.end().map_err(|e| parse_error(".".into(), e))?;
+        scene.path = path.to_path_buf();
+        Ok(scene)
+    }
+
+    /// The mesh file, resolved against the scene file's folder.
+    pub fn mesh_path(&self) -> PathBuf {
+        let file = Path::new(&self.mesh.file);
+        match self.path.parent() {
+            Some(dir) if file.is_relative() => dir.join(file),
+            _ => file.to_path_buf(),
+        }
+    }
+
+    /// gmsh `-setnumber` pairs, sorted by name.
+    pub fn gmsh_parameters(&self) -> Vec<(String, f64)> {
+        self.mesh
+            .parameters
+            .iter()
+            .map(|(k, v)| (k.clone(), *v))
+            .collect()
+    }
+
+    /// Highest harmonic M (the run solves 0..=M).
+    pub fn harmonics(&self) -> u32 {
+        self.harmonics
+    }
+
+    /// The joints as the mesh crate inserts them.
+    pub fn joint_specs(&self) -> Vec<JointSpec> {
+        self.joints.iter().map(|(name, j)| j.spec(name)).collect()
+    }
+
+    /// Theta of the sections in radians: the given ones, or the paper's
+    /// M + 1 sections `0, pi/M, ..., pi` (one section, theta = 0, for M = 0).
+    ///
+    /// The paper's sections cover loads symmetric about theta = 0; for
+    /// antisymmetric loads give sections over the full turn.
+    pub fn section_angles(&self) -> Vec<f64> {
+        match &self.sections {
+            Some(s) => s.theta_deg.iter().map(|d| d.to_radians()).collect(),
+            None if self.harmonics == 0 => vec![0.0],
+            None => {
+                let m = self.harmonics;
+                (0..=m)
+                    .map(|k| std::f64::consts::PI * f64::from(k) / f64::from(m))
+                    .collect()
+            }
+        }
+    }
+}
+
+/// serde_json's message without its trailing " at line L column C".
+fn strip_location(e: &serde_json::Error) -> String {
+    let text = e.to_string();
+    let suffix = format!(" at line {} column {}", e.line(), e.column());
+    text.strip_suffix(&suffix).unwrap_or(&text).to_string()
+}
+
+/// Reads a JSON object into a map, refusing a key given twice (serde's
+/// own map would keep the last one silently).
+fn unique_map<'de, D, T>(d: D) -> Result<BTreeMap<String, T>, D::Error>
+where
+    D: Deserializer<'de>,
+    T: Deserialize<'de>,
+{
+    struct UniqueMap<T>(PhantomData<T>);
+    impl<'de, T: Deserialize<'de>> Visitor<'de> for UniqueMap<T> {
+        type Value = BTreeMap<String, T>;
+        fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+            f.write_str("an object keyed by physical name")
+        }
+        fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Self::Value, A::Error> {
+            let mut out = BTreeMap::new();
+            while let Some(key) = map.next_key::<String>()? {
+                if out.contains_key(&key) {
+                    return Err(de::Error::custom(format!("`{key}` is given twice")));
+                }
+                let value = map.next_value()?;
+                out.insert(key, value);
+            }
+            Ok(out)
+        }
+    }
+    d.deserialize_map(UniqueMap(PhantomData))
+}

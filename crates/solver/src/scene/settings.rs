@@ -1,0 +1,304 @@
+//! The plain parts of a scene: units, mesh source, materials, supports,
+//! sections, solver settings, cuts and outputs.
+
+use crate::material::Elastic;
+use serde::de::{self, SeqAccess, Visitor};
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
+use std::collections::BTreeMap;
+use std::fmt;
+
+/// Unit labels. Values in a scene are plain numbers in these units; the
+/// solver never converts, the labels travel to the reports.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Units {
+    /// Length, e.g. `m`.
+    #[serde(default = "Units::default_length")]
+    pub length: String,
+    /// Force, e.g. `MN`.
+    #[serde(default = "Units::default_force")]
+    pub force: String,
+    /// Stress (force / length^2), e.g. `MPa`.
+    #[serde(default = "Units::default_stress")]
+    pub stress: String,
+}
+
+impl Units {
+    fn default_length() -> String {
+        "m".into()
+    }
+    fn default_force() -> String {
+        "MN".into()
+    }
+    fn default_stress() -> String {
+        "MPa".into()
+    }
+
+    /// For labels this module knows (length m, cm, mm; force N, kN, MN;
+    /// stress Pa, kPa, MPa, GPa): `Some(true)` if stress = force / length^2,
+    /// `Some(false)` if not; `None` when a label is unknown (not checked).
+    pub fn consistent(&self) -> Option<bool> {
+        let length = match self.length.as_str() {
+            "m" => 1.0,
+            "cm" => 1e-2,
+            "mm" => 1e-3,
+            _ => return None,
+        };
+        let force = match self.force.as_str() {
+            "N" => 1.0,
+            "kN" => 1e3,
+            "MN" => 1e6,
+            _ => return None,
+        };
+        let stress = match self.stress.as_str() {
+            "Pa" => 1.0,
+            "kPa" => 1e3,
+            "MPa" => 1e6,
+            "GPa" => 1e9,
+            _ => return None,
+        };
+        let ratio: f64 = force / (length * length) / stress;
+        Some((ratio - 1.0).abs() < 1e-9)
+    }
+}
+
+impl Default for Units {
+    fn default() -> Self {
+        Units {
+            length: Units::default_length(),
+            force: Units::default_force(),
+            stress: Units::default_stress(),
+        }
+    }
+}
+
+/// Where the mesh comes from: a `.geo` (meshed by gmsh with `parameters`)
+/// or a `.msh`, relative to the scene file.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MeshSource {
+    /// Path of the `.geo` or `.msh`, relative to the scene file.
+    pub file: String,
+    /// gmsh `-setnumber NAME VALUE` pairs (only for a `.geo`).
+    #[serde(default)]
+    pub parameters: BTreeMap<String, f64>,
+}
+
+/// An isotropic elastic material (stress units).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Material {
+    /// Young's modulus E > 0.
+    #[serde(rename = "E")]
+    pub e: f64,
+    /// Poisson's ratio, -1 < nu < 0.5.
+    pub nu: f64,
+}
+
+impl Material {
+    /// As the element layer's material (unchecked: see [`Elastic::validate`]).
+    pub fn elastic(&self) -> Elastic {
+        Elastic {
+            e: self.e,
+            nu: self.nu,
+        }
+    }
+}
+
+/// Displacement components a support fixes, in (r, z, theta).
+///
+/// Written as a list of `"r"`, `"z"`, `"theta"` (or `"all"`), or the
+/// string `"all"`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Fix {
+    /// u_r = 0.
+    pub r: bool,
+    /// u_z = 0.
+    pub z: bool,
+    /// u_theta = 0.
+    pub theta: bool,
+}
+
+impl Fix {
+    /// All three components.
+    pub const ALL: Fix = Fix {
+        r: true,
+        z: true,
+        theta: true,
+    };
+
+    /// `[r, z, theta]`, the node-major DOF order.
+    pub fn components(&self) -> [bool; 3] {
+        [self.r, self.z, self.theta]
+    }
+
+    /// True if nothing is fixed.
+    pub fn is_empty(&self) -> bool {
+        !(self.r || self.z || self.theta)
+    }
+
+    fn add(&mut self, name: &str) -> Result<(), String> {
+        match name {
+            "r" => self.r = true,
+            "z" => self.z = true,
+            "theta" => self.theta = true,
+            "all" => *self = Fix::ALL,
+            other => {
+                return Err(format!(
+                    "unknown component `{other}`, expected `r`, `z`, `theta` or `all`"
+                ))
+            }
+        }
+        Ok(())
+    }
+}
+
+impl<'de> Deserialize<'de> for Fix {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct FixVisitor;
+        impl<'de> Visitor<'de> for FixVisitor {
+            type Value = Fix;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("\"all\" or a list of \"r\", \"z\", \"theta\"")
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<Fix, E> {
+                let mut fix = Fix::default();
+                fix.add(v).map_err(E::custom)?;
+                Ok(fix)
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Fix, A::Error> {
+                let mut fix = Fix::default();
+                while let Some(name) = seq.next_element::<String>()? {
+                    fix.add(&name).map_err(de::Error::custom)?;
+                }
+                Ok(fix)
+            }
+        }
+        d.deserialize_any(FixVisitor)
+    }
+}
+
+impl Serialize for Fix {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        let names: Vec<&str> = [(self.r, "r"), (self.z, "z"), (self.theta, "theta")]
+            .iter()
+            .filter(|(on, _)| *on)
+            .map(|&(_, n)| n)
+            .collect();
+        names.serialize(s)
+    }
+}
+
+/// A support: zero displacement of some components, in every harmonic, on
+/// all nodes of a physical curve or point.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Support {
+    /// Physical curve (looked up first) or physical point name.
+    pub on: String,
+    /// The fixed components.
+    pub fix: Fix,
+}
+
+/// The theta sections where the joint law is evaluated (nonlinear runs).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Sections {
+    /// Angles in degrees, strictly increasing, in [0, 360).
+    pub theta_deg: Vec<f64>,
+}
+
+/// The iteration scheme of the nonlinear joint solution.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SolverMethod {
+    /// The paper's stress-transfer iteration (DESIGN.md section 3).
+    #[default]
+    Paper,
+}
+
+/// Solver settings.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SolverSettings {
+    /// Iteration scheme.
+    #[serde(default)]
+    pub method: SolverMethod,
+    /// Convergence when the residual ratio Psi_r / Psi_0 < epsilon, 0 < epsilon < 1.
+    #[serde(default = "SolverSettings::default_epsilon")]
+    pub epsilon: f64,
+    /// Iteration limit, >= 1.
+    #[serde(default = "SolverSettings::default_max_iterations")]
+    pub max_iterations: u32,
+}
+
+impl SolverSettings {
+    fn default_epsilon() -> f64 {
+        1e-6
+    }
+    fn default_max_iterations() -> u32 {
+        500
+    }
+}
+
+impl Default for SolverSettings {
+    fn default() -> Self {
+        SolverSettings {
+            method: SolverMethod::default(),
+            epsilon: SolverSettings::default_epsilon(),
+            max_iterations: SolverSettings::default_max_iterations(),
+        }
+    }
+}
+
+/// A straight cut in the (r, z) plane, sampled at some theta.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Cut {
+    /// Name (letters, digits, `-`, `_`, `.`): used in output file names.
+    pub name: String,
+    /// Start point (r, z), r >= 0.
+    pub from: [f64; 2],
+    /// End point (r, z), r >= 0.
+    pub to: [f64; 2],
+    /// Distance between samples along the cut (length units), > 0.
+    pub spacing: f64,
+    /// Angles in degrees where the cut is sampled.
+    #[serde(default = "Cut::default_theta")]
+    pub theta_deg: Vec<f64>,
+}
+
+impl Cut {
+    fn default_theta() -> Vec<f64> {
+        vec![0.0]
+    }
+}
+
+/// Which result files to write besides the solution itself.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Outputs {
+    /// CSV of every cut.
+    #[serde(default = "yes")]
+    pub csv: bool,
+    /// ParaView `.vtu` files.
+    #[serde(default)]
+    pub vtu: bool,
+    /// gmsh post-processing views.
+    #[serde(default)]
+    pub gmsh_views: bool,
+}
+
+fn yes() -> bool {
+    true
+}
+
+impl Default for Outputs {
+    fn default() -> Self {
+        Outputs {
+            csv: true,
+            vtu: false,
+            gmsh_views: false,
+        }
+    }
+}

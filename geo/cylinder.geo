@@ -1,0 +1,46 @@
+// Solid cylinder of radius a and length L (verification cases, DESIGN.md 6).
+// Meridional half plane: gmsh x = r, gmsh y = z.
+//
+//   z = L  +------+   top
+//          |      |
+//     axis | body | side
+//          |      |
+//   z = 0  o------+   bottom      o: physical point "origin"
+//        r = 0  r = a
+//
+// Parameters (gmsh -setnumber): a, L, size, order (1|2), quads (0|1),
+// serendipity (0|1), hole (inner radius: 0 for a solid cylinder, > 0 for a
+// thick tube whose inner face is the curve "inner" instead of "axis").
+If (!Exists(a)) a = 0.5; EndIf
+If (!Exists(L)) L = 2.0; EndIf
+If (!Exists(size)) size = 0.25; EndIf
+If (!Exists(order)) order = 2; EndIf
+If (!Exists(quads)) quads = 1; EndIf
+If (!Exists(serendipity)) serendipity = 0; EndIf
+If (!Exists(hole)) hole = 0; EndIf
+
+Point(1) = {hole, 0, 0, size};
+Point(2) = {a, 0, 0, size};
+Point(3) = {a, L, 0, size};
+Point(4) = {hole, L, 0, size};
+Line(1) = {1, 2};
+Line(2) = {2, 3};
+Line(3) = {3, 4};
+Line(4) = {4, 1};
+Curve Loop(1) = {1, 2, 3, 4};
+Plane Surface(1) = {1};
+
+Mesh.ElementOrder = order;
+Mesh.SecondOrderIncomplete = serendipity;
+Mesh.RecombineAll = quads;
+
+Physical Surface("body") = {1};
+Physical Curve("bottom") = {1};
+Physical Curve("side") = {2};
+Physical Curve("top") = {3};
+If (hole > 0)
+  Physical Curve("inner") = {4};
+Else
+  Physical Curve("axis") = {4};
+EndIf
+Physical Point("origin") = {1};
