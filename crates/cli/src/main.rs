@@ -21,15 +21,18 @@ struct Cli {
 enum Command {
     /// Mesh a .geo with gmsh (or read a .msh), insert joints, validate, and print a summary.
     Mesh(mesh_cmd::MeshArgs),
-    /// Solve a scene with its joints as linear springs; write the solution folder.
+    /// Solve a scene (joints that open and slip by the stress-transfer iteration); write the solution folder.
     Solve(solve_cmd::SolveArgs),
+    /// Mesh, solve and write every result of a scene [default: Scene P].
+    Run(solve_cmd::RunArgs),
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Mesh(args) => mesh_cmd::run(&args),
-        Command::Solve(args) => solve_cmd::run(&args),
+        Command::Solve(args) => solve_cmd::run_solve(&args),
+        Command::Run(args) => solve_cmd::run_run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

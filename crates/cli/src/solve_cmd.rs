@@ -1,16 +1,33 @@
-//! `axijoint solve`.
+//! `axijoint solve` and `axijoint run`.
 
 use anyhow::{Context, Result};
-use axijoint_solver::driver::{solution_header, solve_linear};
-use axijoint_solver::results::write_solution;
+use axijoint_solver::driver::{solution_header, solve_scene, Run};
+use axijoint_solver::iteration::IterationRecord;
+use axijoint_solver::results::{write_solution, SolutionHeader};
 use axijoint_solver::scene::Scene;
 use clap::Args;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::path::{Path, PathBuf};
+use std::time::Duration;
 
 #[derive(Args)]
 pub struct SolveArgs {
     /// The scene file (JSON, see docs/scene-format.md).
     pub scene: PathBuf,
+    #[command(flatten)]
+    pub common: CommonArgs,
+}
+
+#[derive(Args)]
+pub struct RunArgs {
+    /// The scene file [default: the repository's geo/pile_footing.json, Scene P].
+    pub scene: Option<PathBuf>,
+    #[command(flatten)]
+    pub common: CommonArgs,
+}
+
+#[derive(Args)]
+pub struct CommonArgs {
     /// Output folder [default: out/<scene name> in the current folder].
     #[arg(short, long, value_name = "DIR")]
     pub output: Option<PathBuf>,
@@ -20,16 +37,26 @@ pub struct SolveArgs {
     /// Override the scene's highest harmonic M.
     #[arg(long, value_name = "M")]
     pub harmonics: Option<u32>,
+    /// Override the convergence tolerance of the iteration.
+    #[arg(long, value_name = "EPS")]
+    pub epsilon: Option<f64>,
+    /// No progress display.
+    #[arg(short, long)]
+    pub quiet: bool,
 }
 
 /// Reads the scene and applies the command-line overrides.
-pub fn load_scene(path: &Path, set: &[String], harmonics: Option<u32>) -> Result<Scene> {
+pub fn load_scene(path: &Path, common: &CommonArgs) -> Result<Scene> {
     let mut scene = Scene::from_path(path)?;
-    for (name, value) in crate::mesh_cmd::parse_parameters(set)? {
+    for (name, value) in crate::mesh_cmd::parse_parameters(&common.set)? {
         scene.mesh.parameters.insert(name, value);
     }
-    if let Some(m) = harmonics {
+    if let Some(m) = common.harmonics {
         scene.harmonics = m;
+    }
+    if let Some(e) = common.epsilon {
+        anyhow::ensure!(e > 0.0 && e < 1.0, "--epsilon {e}: must lie in (0, 1)");
+        scene.solver.epsilon = e;
     }
     Ok(scene)
 }
@@ -40,17 +67,61 @@ pub fn default_output(scene: &Path) -> PathBuf {
     PathBuf::from("out").join(stem)
 }
 
-pub fn run(args: &SolveArgs) -> Result<()> {
-    let scene = load_scene(&args.scene, &args.set, args.harmonics)?;
-    let out = args.output.clone().unwrap_or_else(|| default_output(&args.scene));
+/// The repository's Scene P: `geo/pile_footing.json` under the current
+/// folder, else next to the sources this binary was built from.
+pub fn default_scene() -> Result<PathBuf> {
+    let here = PathBuf::from("geo/pile_footing.json");
+    if here.is_file() {
+        return Ok(here);
+    }
+    let built = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../geo/pile_footing.json");
+    anyhow::ensure!(
+        built.is_file(),
+        "no scene given and the default geo/pile_footing.json was not found; pass a scene file"
+    );
+    Ok(built)
+}
+
+/// Solves, writes the solution folder, prints a summary; returns the header.
+pub fn solve_and_write(scene_path: &Path, common: &CommonArgs) -> Result<(Scene, PathBuf, SolutionHeader)> {
+    let scene = load_scene(scene_path, common)?;
+    let out = common.output.clone().unwrap_or_else(|| default_output(scene_path));
     let tmp = tempfile::tempdir().context("creating a temporary folder")?;
     let is_geo = scene.mesh_path().extension().is_some_and(|e| e.eq_ignore_ascii_case("geo"));
     let msh = if is_geo { tmp.path().join("mesh.msh") } else { scene.mesh_path() };
-    let run = solve_linear(&scene, Some(&msh), false)?;
-    let header = solution_header(&scene, &run);
-    write_solution(&out, &header, &run.displacements, &msh)?;
 
-    println!("{}: {}", args.scene.display(), scene.title);
+    let bar = if common.quiet {
+        ProgressBar::hidden()
+    } else {
+        let b = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
+        b.set_style(ProgressStyle::with_template("{spinner} {elapsed} {msg}").expect("valid template"));
+        b.enable_steady_tick(Duration::from_millis(200));
+        b.set_message("meshing and factorizing");
+        b
+    };
+    let result = solve_scene(&scene, Some(&msh), |r: &IterationRecord| {
+        bar.set_message(format!(
+            "iteration {:>4}  residual ratio {:.3e}  open {}  slip {}",
+            r.iteration, r.ratio, r.open, r.slip
+        ));
+    });
+    bar.finish_and_clear();
+    let run: Run = result?;
+    let mut header = solution_header(&scene, &run.linear);
+    if let Some(outcome) = &run.outcome {
+        header.extra = serde_json::json!({
+            "iterations": outcome.history.len(),
+            "sections_deg": outcome.field.sections.theta.iter().map(|t| t.to_degrees()).collect::<Vec<_>>(),
+            "history": outcome.history,
+        });
+    }
+    write_solution(&out, &header, &run.linear.displacements, &msh)?;
+    print_summary(scene_path, &scene, &header, &out);
+    Ok((scene, out, header))
+}
+
+fn print_summary(path: &Path, scene: &Scene, header: &SolutionHeader, out: &Path) {
+    println!("{}: {}", path.display(), scene.title);
     println!(
         "  {} nodes, {} elements, {} unknowns per harmonic, harmonics 0..={}",
         header.mesh.nodes,
@@ -63,6 +134,19 @@ pub fn run(args: &SolveArgs) -> Result<()> {
         "  time: setup {:.3} s, assembly + factorization {:.3} s, solve {:.3} s",
         t.setup, t.factorize, t.solve
     );
+    if let Some(h) = header.extra.get("history").and_then(|h| h.as_array()) {
+        if let Some(last) = h.last() {
+            println!(
+                "  iteration: {} iterations, residual ratio {:.3e} (epsilon {:.1e}); open {}, slip {}, stick {} point-sections",
+                h.len(),
+                last["ratio"].as_f64().unwrap_or(f64::NAN),
+                scene.solver.epsilon,
+                last["open"],
+                last["slip"],
+                last["stick"]
+            );
+        }
+    }
     let u = &scene.units;
     for (face, d) in &header.loaded_faces {
         println!(
@@ -83,5 +167,16 @@ pub fn run(args: &SolveArgs) -> Result<()> {
         );
     }
     println!("  written to {}", out.display());
-    Ok(())
+}
+
+pub fn run_solve(args: &SolveArgs) -> Result<()> {
+    solve_and_write(&args.scene, &args.common).map(|_| ())
+}
+
+pub fn run_run(args: &RunArgs) -> Result<()> {
+    let scene = match &args.scene {
+        Some(s) => s.clone(),
+        None => default_scene()?,
+    };
+    solve_and_write(&scene, &args.common).map(|_| ())
 }

@@ -382,3 +382,89 @@ pub fn solution_header(scene: &Scene, run: &LinearRun) -> crate::results::Soluti
         extra: serde_json::Value::Null,
     }
 }
+
+/// The theta sections of a scene's joint law: the scene's own, or by
+/// default the paper's M + 1 over [0, pi] when the loads are symmetric about
+/// theta = 0 (no antisymmetric family, no torsion), else the full-turn
+/// equivalent (2M equispaced sections).
+pub fn scene_sections(scene: &Scene, loads: &[HarmonicLoads]) -> Result<crate::fourier::Sections, SolverError> {
+    use crate::fourier::Sections;
+    let symmetric_only = loads.iter().all(|h| {
+        h.antisymmetric.iter().all(|&v| v == 0.0) && (h.m > 0 || h.symmetric.iter().skip(2).step_by(3).all(|&v| v == 0.0))
+    });
+    let m = scene.harmonics();
+    let invalid = |message: String| crate::scene::SceneError::Invalid {
+        path: scene.path.clone(),
+        key: "sections.theta_deg".into(),
+        message,
+    };
+    let sections = match &scene.sections {
+        Some(s) => {
+            let theta: Vec<f64> = s.theta_deg.iter().map(|d| d.to_radians()).collect();
+            let half = symmetric_only && theta.iter().all(|&t| t <= std::f64::consts::PI + 1e-12);
+            if half {
+                Sections::half_circle(theta).map_err(invalid)?
+            } else {
+                Sections::full_circle(theta).map_err(invalid)?
+            }
+        }
+        None if symmetric_only => Sections::paper(m),
+        None => Sections::full_equispaced(2 * m.max(1) as usize),
+    };
+    Ok(sections)
+}
+
+/// A solved scene: the linear model and, when a joint is nonlinear, the
+/// converged iteration.
+pub struct Run {
+    /// The linear run (its displacements are the final ones).
+    pub linear: LinearRun,
+    /// The iteration, if any joint is nonlinear.
+    pub outcome: Option<crate::iteration::Outcome>,
+}
+
+/// Solves a scene: linear springs, then the stress-transfer iteration when a
+/// joint can open or slip. `progress` sees each iteration.
+pub fn solve_scene(
+    scene: &Scene,
+    keep_msh: Option<&Path>,
+    progress: impl FnMut(&crate::iteration::IterationRecord),
+) -> Result<Run, SolverError> {
+    use crate::iteration::{stress_transfer, IterationSettings};
+    use crate::scene::JointLaw;
+    let nonlinear = scene.joints.values().any(|j| j.law != JointLaw::Linear);
+    let mut linear = solve_linear(scene, keep_msh, nonlinear)?;
+    if !nonlinear || linear.model.mesh.joints.is_empty() {
+        return Ok(Run { linear, outcome: None });
+    }
+    let laws: Vec<JointLaw> = linear
+        .model
+        .mesh
+        .joints
+        .iter()
+        .map(|j| scene.joints[&j.name].law)
+        .collect();
+    let sections = scene_sections(scene, &linear.loads)?;
+    let settings = IterationSettings {
+        epsilon: scene.solver.epsilon,
+        max_iterations: scene.solver.max_iterations,
+        ..IterationSettings::default()
+    };
+    let t = Instant::now();
+    let outcome = stress_transfer(
+        &linear.model,
+        &linear.factors,
+        &linear.loads,
+        &laws,
+        &sections,
+        &settings,
+        progress,
+    )?;
+    linear.displacements = outcome.displacements.clone();
+    linear.timings.solve += t.elapsed().as_secs_f64();
+    linear.reactions = reactions(scene, &linear.model, &linear.loads, &linear.displacements);
+    Ok(Run {
+        linear,
+        outcome: Some(outcome),
+    })
+}

@@ -17,6 +17,9 @@ pub enum SolverError {
     /// The linear systems could not be solved.
     #[error(transparent)]
     Solve(#[from] SolveError),
+    /// The nonlinear iteration found no solution.
+    #[error(transparent)]
+    Iteration(#[from] crate::iteration::IterationError),
     /// A result file could not be written or read.
     #[error("{path}: {message}")]
     Output {

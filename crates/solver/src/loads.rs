@@ -162,7 +162,11 @@ pub(crate) fn tolerance(mesh: &Mesh) -> f64 {
         }
     }
     let extent = (hi[0] - lo[0]).max(hi[1] - lo[1]);
-    1e-9 * if extent.is_finite() && extent > 0.0 { extent } else { 1.0 }
+    1e-9 * if extent.is_finite() && extent > 0.0 {
+        extent
+    } else {
+        1.0
+    }
 }
 
 /// Coordinates of an edge's nodes.

@@ -55,7 +55,9 @@ fn mesh_with(quads: f64, order: f64, serendipity: f64, joints: &[JointSpec]) -> 
             _ => {}
         }
     }
-    prepare(&scene.mesh_path(), &params, joints, None).expect("gmsh meshes Scene P").0
+    prepare(&scene.mesh_path(), &params, joints, None)
+        .expect("gmsh meshes Scene P")
+        .0
 }
 
 /// The meshes of the tests: Q9, T6, Q8 and T3, named.
@@ -116,7 +118,9 @@ fn scene_p_load_reproduces_h_and_its_moment() {
         let fx = node_sum(mesh, &h1.symmetric, |_, _, f| f[0] - f[2]);
         close(fx, 0.5, 0.5, &format!("{name}: Fx"));
         // My about z_f = -1.5: every loaded node has d = 0, so My = -sum r f_z.
-        let my = node_sum(mesh, &h1.symmetric, |r, z, f| (z + 1.5) * (f[0] - f[2]) - r * f[1]);
+        let my = node_sum(mesh, &h1.symmetric, |r, z, f| {
+            (z + 1.5) * (f[0] - f[2]) - r * f[1]
+        });
         close(my, -0.75, 0.75, &format!("{name}: My"));
         // Uniform shear: T_r = -T_theta, so f_r = -f_theta at every node.
         for i in 0..mesh.nodes.len() {
@@ -125,7 +129,12 @@ fn scene_p_load_reproduces_h_and_its_moment() {
         // Nothing else: no antisymmetric part, no harmonic 0 or >= 2.
         assert_eq!(max_abs(&h1.antisymmetric), 0.0, "{name}");
         for h in loads.iter().filter(|h| h.m != 1) {
-            assert_eq!(max_abs(&h.symmetric) + max_abs(&h.antisymmetric), 0.0, "{name} m = {}", h.m);
+            assert_eq!(
+                max_abs(&h.symmetric) + max_abs(&h.antisymmetric),
+                0.0,
+                "{name} m = {}",
+                h.m
+            );
         }
         // Same through load_resultants; about the point of application M = 0.
         let at_face = load_resultants(&loads, mesh, -1.5);
@@ -137,11 +146,21 @@ fn scene_p_load_reproduces_h_and_its_moment() {
             close(*a, e, 0.75, &format!("{name}: moment at face"));
         }
         for a in at_point.moment {
-            close(a, 0.0, 0.75, &format!("{name}: moment at the point of application"));
+            close(
+                a,
+                0.0,
+                0.75,
+                &format!("{name}: moment at the point of application"),
+            );
         }
         // Sign: the bending traction pushes into the pile (+z; the face's
         // outward normal is -z) at theta = 0: sum r f_z = +0.75.
-        close(node_sum(mesh, &h1.symmetric, |r, _, f| r * f[1]), 0.75, 0.75, name);
+        close(
+            node_sum(mesh, &h1.symmetric, |r, _, f| r * f[1]),
+            0.75,
+            0.75,
+            name,
+        );
     }
 }
 
@@ -166,13 +185,43 @@ fn general_resultant_on_a_disc_and_an_annulus() {
             let loads = assemble_loads(&scene, mesh, 1).unwrap();
             let what = |c: &str| format!("{name} {curve}: {c}");
             // m = 0: Fz = sum f_z, T = sum r f_theta.
-            close(node_sum(mesh, &loads[0].symmetric, |_, _, f| f[1]), f[2], 1.0, &what("Fz"));
-            close(node_sum(mesh, &loads[0].symmetric, |r, _, f| r * f[2]), torque, 1.0, &what("T"));
+            close(
+                node_sum(mesh, &loads[0].symmetric, |_, _, f| f[1]),
+                f[2],
+                1.0,
+                &what("Fz"),
+            );
+            close(
+                node_sum(mesh, &loads[0].symmetric, |r, _, f| r * f[2]),
+                torque,
+                1.0,
+                &what("T"),
+            );
             // m = 1: Fx, Fy and the bending moments about the face (d = 0 there).
-            close(node_sum(mesh, &loads[1].symmetric, |_, _, f| f[0] - f[2]), f[0], 1.0, &what("Fx"));
-            close(node_sum(mesh, &loads[1].antisymmetric, |_, _, f| f[0] - f[2]), f[1], 1.0, &what("Fy"));
-            close(node_sum(mesh, &loads[1].symmetric, |r, _, f| -r * f[1]), expected_m[1], 1.0, &what("My"));
-            close(node_sum(mesh, &loads[1].antisymmetric, |r, _, f| r * f[1]), expected_m[0], 1.0, &what("Mx"));
+            close(
+                node_sum(mesh, &loads[1].symmetric, |_, _, f| f[0] - f[2]),
+                f[0],
+                1.0,
+                &what("Fx"),
+            );
+            close(
+                node_sum(mesh, &loads[1].antisymmetric, |_, _, f| f[0] - f[2]),
+                f[1],
+                1.0,
+                &what("Fy"),
+            );
+            close(
+                node_sum(mesh, &loads[1].symmetric, |r, _, f| -r * f[1]),
+                expected_m[1],
+                1.0,
+                &what("My"),
+            );
+            close(
+                node_sum(mesh, &loads[1].antisymmetric, |r, _, f| r * f[1]),
+                expected_m[0],
+                1.0,
+                &what("Mx"),
+            );
             let res = load_resultants(&loads, mesh, z_f);
             for c in 0..3 {
                 close(res.force[c], f[c], 1.0, &what("force"));
@@ -203,17 +252,41 @@ fn traction_linear_in_r_and_z_integrates_in_closed_form() {
         let sum = |h: &HarmonicLoads, anti: bool, g: &dyn Fn(f64, f64, [f64; 3]) -> f64| {
             node_sum(mesh, if anti { &h.antisymmetric } else { &h.symmetric }, g)
         };
-        close(sum(&loads[0], false, &|_, _, f| f[1]), 2.0 * PI * end, 1.0, &format!("{name}: m = 0"));
-        close(sum(&loads[2], false, &|_, _, f| f[1]), PI * end, 1.0, &format!("{name}: m = 2"));
-        close(sum(&loads[3], true, &|_, _, f| f[0]), PI * a * (p + q / 2.0), 1.0, &format!("{name}: m = 3 f_r"));
+        close(
+            sum(&loads[0], false, &|_, _, f| f[1]),
+            2.0 * PI * end,
+            1.0,
+            &format!("{name}: m = 0"),
+        );
+        close(
+            sum(&loads[2], false, &|_, _, f| f[1]),
+            PI * end,
+            1.0,
+            &format!("{name}: m = 2"),
+        );
+        close(
+            sum(&loads[3], true, &|_, _, f| f[0]),
+            PI * a * (p + q / 2.0),
+            1.0,
+            &format!("{name}: m = 3 f_r"),
+        );
         close(
             sum(&loads[3], true, &|_, z, f| z * f[0]),
             PI * a * (p / 2.0 + q / 3.0),
             1.0,
             &format!("{name}: m = 3 z f_r"),
         );
-        close(sum(&loads[3], true, &|_, _, f| f[2]), PI * a * 2.0, 1.0, &format!("{name}: m = 3 f_theta"));
-        assert_eq!(max_abs(&loads[3].symmetric) + max_abs(&loads[1].symmetric), 0.0, "{name}");
+        close(
+            sum(&loads[3], true, &|_, _, f| f[2]),
+            PI * a * 2.0,
+            1.0,
+            &format!("{name}: m = 3 f_theta"),
+        );
+        assert_eq!(
+            max_abs(&loads[3].symmetric) + max_abs(&loads[1].symmetric),
+            0.0,
+            "{name}"
+        );
     }
 }
 
@@ -222,8 +295,14 @@ fn force_in_y_is_the_antisymmetric_twin_of_force_in_x() {
     // Turning the load by 90 degrees (theta -> theta - pi/2) maps the
     // symmetric amplitudes of a force in +x onto the antisymmetric ones of
     // the same force in +y, moment included.
-    let in_x = scene_with_loads(r#"{"type": "resultant", "on": "pile_end", "force": [0.5, 0, 0], "at_z": -3.0}"#, 1);
-    let in_y = scene_with_loads(r#"{"type": "resultant", "on": "pile_end", "force": [0, 0.5, 0], "at_z": -3.0}"#, 1);
+    let in_x = scene_with_loads(
+        r#"{"type": "resultant", "on": "pile_end", "force": [0.5, 0, 0], "at_z": -3.0}"#,
+        1,
+    );
+    let in_y = scene_with_loads(
+        r#"{"type": "resultant", "on": "pile_end", "force": [0, 0.5, 0], "at_z": -3.0}"#,
+        1,
+    );
     for (name, mesh) in meshes() {
         let x = assemble_loads(&in_x, mesh, 1).unwrap();
         let y = assemble_loads(&in_y, mesh, 1).unwrap();
@@ -271,7 +350,11 @@ fn points_mesh() -> Mesh {
     };
     Mesh {
         nodes: vec![[0.0, 1.0], [2.0, 0.5], [2.0, 0.5], [3.0, 0.0]],
-        points: vec![set("apex", vec![0]), set("split", vec![1, 2]), set("rim", vec![3])],
+        points: vec![
+            set("apex", vec![0]),
+            set("split", vec![1, 2]),
+            set("rim", vec![3]),
+        ],
         ..Mesh::default()
     }
 }
@@ -297,13 +380,23 @@ fn ring_loads_scale_with_the_circumference() {
     );
     scene.check(&mesh).unwrap();
     let loads = assemble_loads(&scene, &mesh, 2).unwrap();
-    close(loads[0].symmetric[3 * 3 + 1], 2.0 * PI * 3.0 * 1.5, 1.0, "m = 0 ring");
+    close(
+        loads[0].symmetric[3 * 3 + 1],
+        2.0 * PI * 3.0 * 1.5,
+        1.0,
+        "m = 0 ring",
+    );
     close(loads[1].symmetric[3 * 3], PI * 3.0 * 0.7, 1.0, "m = 1 ring");
     let res = load_resultants(&loads, &mesh, 0.0);
     close(res.force[2], 2.0 * PI * 3.0 * 1.5, 10.0, "Fz");
     close(res.force[0], PI * 3.0 * 0.7, 10.0, "Fx");
     for copy in [1, 2] {
-        close(loads[2].antisymmetric[3 * copy + 2], 0.5 * PI * 2.0, 1.0, "split ring");
+        close(
+            loads[2].antisymmetric[3 * copy + 2],
+            0.5 * PI * 2.0,
+            1.0,
+            "split ring",
+        );
     }
 }
 
@@ -326,7 +419,10 @@ fn point_load_on_the_axis() {
 fn ring_on_the_axis_and_point_off_the_axis_are_refused() {
     let mesh = points_mesh();
     let cases = [
-        (r#"{"type": "ring", "on": "apex", "harmonic": 0, "f_z": 1}"#, "point load"),
+        (
+            r#"{"type": "ring", "on": "apex", "harmonic": 0, "f_z": 1}"#,
+            "point load",
+        ),
         (r#"{"type": "point", "on": "rim", "force": [0, 0, 1]}"#, "r = 3"),
     ];
     for (load, word) in cases {

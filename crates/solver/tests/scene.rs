@@ -44,7 +44,10 @@ fn parse(text: &str) -> Result<Scene, SceneError> {
 /// Scene P with `from` replaced by `to` (which must occur).
 fn edited(from: &str, to: &str) -> String {
     let text = scene_p_text();
-    assert!(text.contains(from), "pile_footing.json no longer contains {from:?}");
+    assert!(
+        text.contains(from),
+        "pile_footing.json no longer contains {from:?}"
+    );
     text.replacen(from, to, 1)
 }
 
@@ -113,7 +116,10 @@ fn scene_p_table1_values() {
     assert_eq!(joint.rule(JointKind::Lin4), JointRule::Gauss(2));
     match joint.law {
         JointLaw::MohrCoulomb(mc) => {
-            assert_eq!((mc.cohesion, mc.friction_deg, mc.tensile_strength), (0.5, 30.0, 0.0));
+            assert_eq!(
+                (mc.cohesion, mc.friction_deg, mc.tensile_strength),
+                (0.5, 30.0, 0.0)
+            );
             assert_eq!(mc.shear_check, ShearCheck::Resultant);
             assert!((mc.tan_phi() - 1.0 / 3f64.sqrt()).abs() < 1e-15);
         }
@@ -137,8 +143,14 @@ fn scene_p_table1_values() {
     assert_eq!(scene.solver.epsilon, 1e-6);
     assert_eq!(scene.solver.max_iterations, 500);
     assert_eq!(scene.cuts.len(), 2);
-    assert_eq!((scene.cuts[0].name.as_str(), scene.cuts[0].from[1]), ("a-a", 0.75));
-    assert_eq!((scene.cuts[1].name.as_str(), scene.cuts[1].from[1]), ("b-b", 0.25));
+    assert_eq!(
+        (scene.cuts[0].name.as_str(), scene.cuts[0].from[1]),
+        ("a-a", 0.75)
+    );
+    assert_eq!(
+        (scene.cuts[1].name.as_str(), scene.cuts[1].from[1]),
+        ("b-b", 0.25)
+    );
     assert_eq!(scene.cuts[0].theta_deg, vec![0.0, 180.0]);
 }
 
@@ -147,7 +159,10 @@ fn variants_differ_from_table1_only_in_the_joint() {
     let table1 = Scene::from_path(scene_p_path()).unwrap();
     let law = |file: &str| {
         let s = Scene::from_path(geo_dir().join(file)).unwrap();
-        assert_eq!((&s.materials, &s.loads, &s.supports), (&table1.materials, &table1.loads, &table1.supports));
+        assert_eq!(
+            (&s.materials, &s.loads, &s.supports),
+            (&table1.materials, &table1.loads, &table1.supports)
+        );
         s.joints.get("pile_side").map(|j| match j.law {
             JointLaw::MohrCoulomb(mc) => (mc.cohesion, mc.friction_deg),
             JointLaw::Linear => panic!("{file}: linear law"),
@@ -212,7 +227,10 @@ fn joint_rules_and_linear_law() {
     assert_eq!(paper.joints["pile_side"].rule(JointKind::Lin6), JointRule::Paper);
     let five = parse(&text.replace(r#""rule": "lobatto""#, r#""rule": "gauss", "points": 5"#)).unwrap();
     five.check(mesh_p()).unwrap();
-    assert_eq!(five.joints["pile_side"].rule(JointKind::Lin4), JointRule::Gauss(5));
+    assert_eq!(
+        five.joints["pile_side"].rule(JointKind::Lin4),
+        JointRule::Gauss(5)
+    );
 }
 
 // ---- errors: each names the key path or the missing name ----
@@ -230,8 +248,15 @@ fn assert_error(e: &SceneError, key: &str, words: &[&str]) {
 
 #[test]
 fn unknown_key_is_named_with_its_path() {
-    let e = error_of(&edited(r#""pile": {"E": 2.0e4"#, r#""pile": {"E_modulus": 2.0e4"#));
-    assert_error(&e, "materials.pile.E_modulus", &["unknown field `E_modulus`", "line 10"]);
+    let e = error_of(&edited(
+        r#""pile": {"E": 2.0e4"#,
+        r#""pile": {"E_modulus": 2.0e4"#,
+    ));
+    assert_error(
+        &e,
+        "materials.pile.E_modulus",
+        &["unknown field `E_modulus`", "line 10"],
+    );
     let e = error_of(&edited(r#""harmonics": 4"#, r#""harmonic": 4"#));
     assert_error(&e, "harmonic", &["unknown field `harmonic`"]);
 }
@@ -256,7 +281,10 @@ fn keys_of_the_wrong_load_type_or_law_are_refused() {
     assert_error(&e, "loads[0]", &["`t_r`", "resultant"]);
     let e = error_of(&edited(r#""type": "resultant""#, r#""type": "pressure""#));
     assert_error(&e, "loads[0].type", &["pressure"]);
-    let e = error_of(&edited(r#""type": "resultant", "on": "pile_end","#, r#""type": "traction", "on": "pile_end","#));
+    let e = error_of(&edited(
+        r#""type": "resultant", "on": "pile_end","#,
+        r#""type": "traction", "on": "pile_end","#,
+    ));
     assert_error(&e, "loads[0]", &["`force`", "traction"]);
     let e = error_of(&edited(
         r#""type": "resultant", "on": "pile_end", "force": [0.5, 0, 0], "at_z": -3.0, "torque": 0"#,
@@ -267,7 +295,10 @@ fn keys_of_the_wrong_load_type_or_law_are_refused() {
     assert_error(&e, "joints.pile_side.law", &["`cohesion`"]);
     let e = error_of(&edited(r#""type": "mohr_coulomb""#, r#""type": "linear""#));
     assert_error(&e, "joints.pile_side.law", &["`cohesion`", "linear"]);
-    let e = error_of(&edited(r#""shear_check": "resultant""#, r#""shear_check": "max""#));
+    let e = error_of(&edited(
+        r#""shear_check": "resultant""#,
+        r#""shear_check": "max""#,
+    ));
     assert_error(&e, "joints.pile_side.law.shear_check", &["max"]);
 }
 
@@ -286,8 +317,11 @@ fn duplicate_names_and_trailing_text_are_refused() {
 
 #[test]
 fn missing_material_for_a_body() {
-    let e = error_of(&edited(r#",
-    "footing": {"E": 2.0e4, "nu": 0.17}"#, ""));
+    let e = error_of(&edited(
+        r#",
+    "footing": {"E": 2.0e4, "nu": 0.17}"#,
+        "",
+    ));
     assert_error(&e, "materials", &["'footing' has no material"]);
     let e = error_of(&edited(r#""footing": {"E""#, r#""footings": {"E""#));
     assert_error(&e, "materials.footings", &["'footings'", "pile, footing"]);
@@ -296,7 +330,11 @@ fn missing_material_for_a_body() {
 #[test]
 fn support_on_a_missing_curve_lists_the_names() {
     let e = error_of(&edited(r#""on": "footing_outer""#, r#""on": "footing_out""#));
-    assert_error(&e, "supports[0].on", &["'footing_out'", "footing_outer", "pile_end", "axis"]);
+    assert_error(
+        &e,
+        "supports[0].on",
+        &["'footing_out'", "footing_outer", "pile_end", "axis"],
+    );
     let e = error_of(&edited(r#""on": "pile_end""#, r#""on": "pile_tip""#));
     assert_error(&e, "loads[0].on", &["curve named 'pile_tip'", "pile_end"]);
     let e = error_of(&edited(r#""bottom": "pile""#, r#""bottom": "piles""#));
@@ -327,14 +365,49 @@ fn resultant_on_a_face_that_is_not_flat() {
 #[test]
 fn joint_values() {
     let cases = [
-        (r#""k_eta": 2.0e4"#, r#""k_eta": -2.0e4"#, "joints.pile_side.k_eta", "-20000"),
-        (r#""friction_deg": 30"#, r#""friction_deg": 90"#, "joints.pile_side.law.friction_deg", "90"),
-        (r#""cohesion": 0.5"#, r#""cohesion": -0.5"#, "joints.pile_side.law.cohesion", "-0.5"),
-        (r#""tensile_strength": 0"#, r#""tensile_strength": 1"#, "joints.pile_side.law.tensile_strength", "apex"),
+        (
+            r#""k_eta": 2.0e4"#,
+            r#""k_eta": -2.0e4"#,
+            "joints.pile_side.k_eta",
+            "-20000",
+        ),
+        (
+            r#""friction_deg": 30"#,
+            r#""friction_deg": 90"#,
+            "joints.pile_side.law.friction_deg",
+            "90",
+        ),
+        (
+            r#""cohesion": 0.5"#,
+            r#""cohesion": -0.5"#,
+            "joints.pile_side.law.cohesion",
+            "-0.5",
+        ),
+        (
+            r#""tensile_strength": 0"#,
+            r#""tensile_strength": 1"#,
+            "joints.pile_side.law.tensile_strength",
+            "apex",
+        ),
         (r#""top": "footing","#, "", "joints.pile_side.top", "both"),
-        (r#""rule": "gauss""#, r#""rule": "paper", "points": 2"#, "joints.pile_side.points", "paper"),
-        (r#""rule": "gauss""#, r#""rule": "lobatto", "points": 1"#, "joints.pile_side.points", "Lobatto"),
-        (r#""rule": "gauss""#, r#""rule": "simpson""#, "joints.pile_side.rule", "simpson"),
+        (
+            r#""rule": "gauss""#,
+            r#""rule": "paper", "points": 2"#,
+            "joints.pile_side.points",
+            "paper",
+        ),
+        (
+            r#""rule": "gauss""#,
+            r#""rule": "lobatto", "points": 1"#,
+            "joints.pile_side.points",
+            "Lobatto",
+        ),
+        (
+            r#""rule": "gauss""#,
+            r#""rule": "simpson""#,
+            "joints.pile_side.rule",
+            "simpson",
+        ),
     ];
     for (from, to, key, word) in cases {
         assert_error(&error_of(&edited(from, to)), key, &[word]);
@@ -344,11 +417,36 @@ fn joint_values() {
 #[test]
 fn load_values() {
     let cases = [
-        (r#""torque": 0"#, r#""torque": 0}, {"type": "traction", "on": "pile_end", "harmonic": 5, "t_z": 1"#, "loads[1].harmonic", "harmonic 5"),
-        (r#""torque": 0"#, r#""torque": 0}, {"type": "traction", "on": "pile_end", "harmonic": 0, "family": "antisymmetric", "t_z": 1"#, "loads[1].family", "harmonic 0"),
-        (r#""torque": 0"#, r#""torque": 0}, {"type": "traction", "on": "pile_end", "t_z": 1"#, "loads[1]", "`harmonic`"),
-        (r#""torque": 0"#, r#""torque": 0}, {"type": "ring", "on": "pile_end", "harmonic": 0, "f_z": 1"#, "loads[1].on", "point named 'pile_end'"),
-        (r#""harmonics": 4"#, r#""harmonics": 0"#, "loads[0].force", "harmonic 1"),
+        (
+            r#""torque": 0"#,
+            r#""torque": 0}, {"type": "traction", "on": "pile_end", "harmonic": 5, "t_z": 1"#,
+            "loads[1].harmonic",
+            "harmonic 5",
+        ),
+        (
+            r#""torque": 0"#,
+            r#""torque": 0}, {"type": "traction", "on": "pile_end", "harmonic": 0, "family": "antisymmetric", "t_z": 1"#,
+            "loads[1].family",
+            "harmonic 0",
+        ),
+        (
+            r#""torque": 0"#,
+            r#""torque": 0}, {"type": "traction", "on": "pile_end", "t_z": 1"#,
+            "loads[1]",
+            "`harmonic`",
+        ),
+        (
+            r#""torque": 0"#,
+            r#""torque": 0}, {"type": "ring", "on": "pile_end", "harmonic": 0, "f_z": 1"#,
+            "loads[1].on",
+            "point named 'pile_end'",
+        ),
+        (
+            r#""harmonics": 4"#,
+            r#""harmonics": 0"#,
+            "loads[0].force",
+            "harmonic 1",
+        ),
     ];
     for (from, to, key, word) in cases {
         assert_error(&error_of(&edited(from, to)), key, &[word]);
@@ -358,18 +456,63 @@ fn load_values() {
 #[test]
 fn settings_values() {
     let cases = [
-        (r#""size": 0.25"#, r#""sise": 0.25"#, "mesh.parameters.sise", "does not use a parameter named 'sise'"),
-        (r#""file": "pile_footing.geo""#, r#""file": "pile_footing.step""#, "mesh.file", "neither a .geo nor a .msh"),
-        (r#""file": "pile_footing.geo""#, r#""file": "pile_footing.msh""#, "mesh.parameters", ".geo only"),
+        (
+            r#""size": 0.25"#,
+            r#""sise": 0.25"#,
+            "mesh.parameters.sise",
+            "does not use a parameter named 'sise'",
+        ),
+        (
+            r#""file": "pile_footing.geo""#,
+            r#""file": "pile_footing.step""#,
+            "mesh.file",
+            "neither a .geo nor a .msh",
+        ),
+        (
+            r#""file": "pile_footing.geo""#,
+            r#""file": "pile_footing.msh""#,
+            "mesh.parameters",
+            ".geo only",
+        ),
         (r#""force": "MN""#, r#""force": "kN""#, "units", "kN"),
-        (r#""epsilon": 1e-6"#, r#""epsilon": 0"#, "solver.epsilon", "between 0 and 1"),
-        (r#""max_iterations": 500"#, r#""max_iterations": 0"#, "solver.max_iterations", "at least 1"),
-        (r#""method": "paper""#, r#""method": "newton""#, "solver.method", "newton"),
-        (r#"[0, 45, 90, 135, 180]"#, r#"[0, 90, 45]"#, "sections.theta_deg", "increasing"),
+        (
+            r#""epsilon": 1e-6"#,
+            r#""epsilon": 0"#,
+            "solver.epsilon",
+            "between 0 and 1",
+        ),
+        (
+            r#""max_iterations": 500"#,
+            r#""max_iterations": 0"#,
+            "solver.max_iterations",
+            "at least 1",
+        ),
+        (
+            r#""method": "paper""#,
+            r#""method": "newton""#,
+            "solver.method",
+            "newton",
+        ),
+        (
+            r#"[0, 45, 90, 135, 180]"#,
+            r#"[0, 90, 45]"#,
+            "sections.theta_deg",
+            "increasing",
+        ),
         (r#""spacing": 0.05"#, r#""spacing": 0"#, "cuts[0].spacing", "> 0"),
         (r#""name": "a-a""#, r#""name": "a/a""#, "cuts[0].name", "a/a"),
-        (r#""to": [3.0, 0.75]"#, r#""to": [-3.0, 0.75]"#, "cuts[0].to", "r >= 0"),
-        (r#""fix": ["r", "z", "theta"]"#, r#""fix": []"#, "supports[0].fix", "fixes nothing"),
+        (
+            r#""to": [3.0, 0.75]"#,
+            r#""to": [-3.0, 0.75]"#,
+            "cuts[0].to",
+            "r >= 0",
+        ),
+        (
+            r#""fix": ["r", "z", "theta"]"#,
+            r#""fix": []"#,
+            "supports[0].fix",
+            "fixes nothing",
+        ),
     ];
     for (from, to, key, word) in cases {
         assert_error(&error_of(&edited(from, to)), key, &[word]);
@@ -382,8 +525,14 @@ fn unreadable_files() {
     let e = Scene::from_path(&missing).unwrap_err();
     assert!(matches!(e, SceneError::Io { .. }));
     assert!(e.to_string().contains("no_such_scene.json"), "{e}");
-    let e = error_of(&edited(r#""file": "pile_footing.geo""#, r#""file": "no_such.geo""#));
-    assert!(matches!(e, SceneError::Io { .. }) && e.to_string().contains("no_such.geo"), "{e}");
+    let e = error_of(&edited(
+        r#""file": "pile_footing.geo""#,
+        r#""file": "no_such.geo""#,
+    ));
+    assert!(
+        matches!(e, SceneError::Io { .. }) && e.to_string().contains("no_such.geo"),
+        "{e}"
+    );
     let e = parse("{\"mesh\": ").unwrap_err();
     assert!(matches!(e, SceneError::Parse { line: 1, .. }), "{e}");
 }

@@ -1,7 +1,9 @@
 //! Semantic checks of a scene: values alone, then names against a mesh.
 
 use super::{Family, JointLaw, Load, RuleKind, Scene, SceneError};
-use crate::loads::{face_section, point_locations, point_off_axis, tolerance, ANTISYMMETRIC_ZERO, RING_ON_AXIS};
+use crate::loads::{
+    face_section, point_locations, point_off_axis, tolerance, ANTISYMMETRIC_ZERO, RING_ON_AXIS,
+};
 use crate::material::MaterialError;
 use axijoint_mesh::{CurveSet, JointKind, Mesh};
 use std::collections::BTreeSet;
@@ -122,7 +124,8 @@ impl Scene {
             Some("msh") => Ok(()),
             Some("geo") => {
                 let path = self.mesh_path();
-                let text = std::fs::read_to_string(&path).map_err(|source| SceneError::Io { path, source })?;
+                let text =
+                    std::fs::read_to_string(&path).map_err(|source| SceneError::Io { path, source })?;
                 match self.mesh.parameters.keys().find(|k| !uses_identifier(&text, k)) {
                     Some(name) => Err(self.invalid(
                         format!("mesh.parameters.{name}"),
@@ -144,7 +147,10 @@ impl Scene {
     fn check_joint(&self, name: &str, joint: &super::JointConfig) -> Result<(), SceneError> {
         let key = |k: &str| format!("joints.{name}.{k}");
         if let Err(crate::elements::JointError::Stiffness { name: k, value }) = joint.springs().validate() {
-            return Err(self.invalid(key(k), format!("{value} is not allowed: a stiffness is a finite number >= 0")));
+            return Err(self.invalid(
+                key(k),
+                format!("{value} is not allowed: a stiffness is a finite number >= 0"),
+            ));
         }
         if joint.bottom.is_some() != joint.top.is_some() {
             let missing = if joint.bottom.is_none() { "bottom" } else { "top" };
@@ -161,12 +167,18 @@ impl Scene {
             if !(0.0..90.0).contains(&mc.friction_deg) {
                 return Err(self.invalid(
                     law("friction_deg"),
-                    format!("{} is not allowed: the friction angle lies in [0, 90) degrees", mc.friction_deg),
+                    format!(
+                        "{} is not allowed: the friction angle lies in [0, 90) degrees",
+                        mc.friction_deg
+                    ),
                 ));
             }
             let t = mc.tensile_strength;
             if !(t.is_finite() && t >= 0.0) {
-                return Err(self.invalid(law("tensile_strength"), format!("{t} is not allowed: it must be >= 0")));
+                return Err(self.invalid(
+                    law("tensile_strength"),
+                    format!("{t} is not allowed: it must be >= 0"),
+                ));
             }
             let apex = mc.cohesion / mc.tan_phi();
             if t > apex {
@@ -183,7 +195,8 @@ impl Scene {
             )),
             (_, Some(_)) => {
                 let rule = joint.rule(JointKind::Lin4);
-                rule.validate().map_err(|e| self.invalid(key("points"), e.to_string()))
+                rule.validate()
+                    .map_err(|e| self.invalid(key("points"), e.to_string()))
             }
             (_, None) => Ok(()),
         }
@@ -199,7 +212,10 @@ impl Scene {
         if m > self.harmonics {
             return Err(self.invalid(
                 key(harmonic_key),
-                format!("the load has a part of harmonic {m} but `harmonics` is {}", self.harmonics),
+                format!(
+                    "the load has a part of harmonic {m} but `harmonics` is {}",
+                    self.harmonics
+                ),
             ));
         }
         match load {
@@ -241,7 +257,10 @@ impl Scene {
             if cut.name.is_empty() || !cut.name.chars().all(ok_char) {
                 return Err(self.invalid(
                     key("name"),
-                    format!("'{}': use letters, digits, '-', '_' or '.' (it names output files)", cut.name),
+                    format!(
+                        "'{}': use letters, digits, '-', '_' or '.' (it names output files)",
+                        cut.name
+                    ),
                 ));
             }
             if !names.insert(cut.name.as_str()) {
@@ -257,7 +276,10 @@ impl Scene {
                 return Err(self.invalid(key("to"), "the cut has zero length (`from` equals `to`)"));
             }
             if !(cut.spacing.is_finite() && cut.spacing > 0.0) {
-                return Err(self.invalid(key("spacing"), format!("{} is not allowed: it must be > 0", cut.spacing)));
+                return Err(self.invalid(
+                    key("spacing"),
+                    format!("{} is not allowed: it must be > 0", cut.spacing),
+                ));
             }
             self.finite(&key("theta_deg"), &cut.theta_deg)?;
             if cut.theta_deg.is_empty() {
@@ -268,7 +290,12 @@ impl Scene {
     }
 
     /// The physical curve `name`, or an error at `key` listing the curves.
-    pub(crate) fn curve<'m>(&self, mesh: &'m Mesh, name: &str, key: &str) -> Result<&'m CurveSet, SceneError> {
+    pub(crate) fn curve<'m>(
+        &self,
+        mesh: &'m Mesh,
+        name: &str,
+        key: &str,
+    ) -> Result<&'m CurveSet, SceneError> {
         mesh.curve(name).ok_or_else(|| SceneError::UnknownName {
             path: self.path.clone(),
             key: key.into(),
@@ -279,7 +306,12 @@ impl Scene {
     }
 
     /// The nodes of physical point `name`, or an error at `key` listing the points.
-    pub(crate) fn point_nodes<'m>(&self, mesh: &'m Mesh, name: &str, key: &str) -> Result<&'m [usize], SceneError> {
+    pub(crate) fn point_nodes<'m>(
+        &self,
+        mesh: &'m Mesh,
+        name: &str,
+        key: &str,
+    ) -> Result<&'m [usize], SceneError> {
         mesh.point(name)
             .map(|p| p.nodes.as_slice())
             .ok_or_else(|| SceneError::UnknownName {

@@ -295,10 +295,9 @@ impl TryFrom<LoadSpec> for Load {
                 allowed.join(", ")
             ));
         }
-        let on = s
-            .on
-            .clone()
-            .ok_or_else(|| format!("missing field `on` (the physical name a {name} load acts on)"))?;
+        let on =
+            s.on.clone()
+                .ok_or_else(|| format!("missing field `on` (the physical name a {name} load acts on)"))?;
         let harmonic = || {
             s.harmonic
                 .ok_or_else(|| format!("missing field `harmonic` (a {name} load is given per harmonic)"))

@@ -36,7 +36,9 @@ mod settings;
 pub use error::SceneError;
 pub use joint::{JointConfig, JointLaw, MohrCoulomb, RuleKind, ShearCheck};
 pub use load::{Family, Linear, Load, PointLoad, ResultantLoad, RingLoad, TractionLoad};
-pub use settings::{Cut, Fix, Material, MeshSource, Outputs, Sections, SolverMethod, SolverSettings, Support, Units};
+pub use settings::{
+    Cut, Fix, Material, MeshSource, Outputs, Sections, SolverMethod, SolverSettings, Support, Units,
+};
 
 use axijoint_mesh::JointSpec;
 use serde::de::{self, MapAccess, Visitor};

@@ -1,0 +1,446 @@
+//! Micro-measurements of the linear solve on Scene P (issue 3, item 5 and
+//! the solver settings of item 3). A `harness = false` bench:
+//!
+//! ```text
+//! cargo bench -p axijoint-solver --bench linear
+//! AXIJOINT_BENCH_SIZE=0.039 AXIJOINT_BENCH_REPS=5 cargo bench -p axijoint-solver --bench linear
+//! ```
+//!
+//! `AXIJOINT_BENCH_SIZE` is the gmsh element size (default 0.12, about 1.1e4
+//! DOF per harmonic), `AXIJOINT_BENCH_REPS` the rounds (default 15),
+//! `AXIJOINT_BENCH_M` the highest harmonic of the `factorize_all` case
+//! (default 4). The cases of a group run interleaved, round by round, so a
+//! load change on the machine hits all of them alike; each reports the
+//! minimum and the median over the rounds, and the ratios use the medians.
+//!
+//! Groups:
+//! - assembly of one harmonic: `Model::assemble`, the element matrices
+//!   alone, a copy of the library's scatter (binary search per entry in
+//!   `Pattern::slot`) and the same scatter through slots looked up once;
+//! - numeric Cholesky of one harmonic with faer `Par::Seq` and
+//!   `Par::rayon(0)` (faer's default), on the model's pattern;
+//!   `Model::factorize` (assembly + numeric + probe) and
+//!   `Model::factorize_all(0..=M)` (rayon over harmonics) with both settings;
+//! - solves: one call with 2 right-hand sides against two calls with 1,
+//!   through `Model::solve` and through faer directly, with both settings.
+
+use axijoint_solver::assembly::Pattern;
+use axijoint_solver::driver::{build_model, mesh_scene};
+use axijoint_solver::elements::{joint_stiffness, solid_stiffness, SolidScratch};
+use axijoint_solver::linear::Model;
+use axijoint_solver::scene::Scene;
+use faer::linalg::solvers::Solve;
+use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::{Mat, Par, Side};
+use nalgebra::DMatrix;
+use std::hint::black_box;
+use std::time::Instant;
+
+fn env_or<T: std::str::FromStr>(name: &str, default: T) -> T {
+    std::env::var(name).ok().and_then(|v| v.parse().ok()).unwrap_or(default)
+}
+
+/// One measured case: a name, a faer setting and the work.
+struct Case<'a> {
+    name: &'static str,
+    par: Par,
+    work: Box<dyn FnMut() + 'a>,
+    times: Vec<f64>,
+}
+
+impl<'a> Case<'a> {
+    fn new(name: &'static str, par: Par, work: impl FnMut() + 'a) -> Self {
+        Case {
+            name,
+            par,
+            work: Box::new(work),
+            times: Vec::new(),
+        }
+    }
+    fn min(&self) -> f64 {
+        self.times.iter().copied().fold(f64::INFINITY, f64::min)
+    }
+    fn median(&self) -> f64 {
+        let mut t = self.times.clone();
+        t.sort_by(f64::total_cmp);
+        t[t.len() / 2]
+    }
+}
+
+/// Runs the cases interleaved for `reps` rounds (after one warm-up round)
+/// and prints them.
+fn run_group(title: &str, reps: usize, cases: &mut [Case<'_>]) {
+    for round in 0..=reps {
+        for c in cases.iter_mut() {
+            faer::set_global_parallelism(c.par);
+            let t = Instant::now();
+            (c.work)();
+            let dt = t.elapsed().as_secs_f64();
+            if round > 0 {
+                c.times.push(dt);
+            }
+        }
+    }
+    faer::set_global_parallelism(Par::rayon(0));
+    println!("\n## {title} ({reps} rounds)");
+    println!("{:<52} {:>10} {:>10}", "case", "min ms", "median ms");
+    for c in cases.iter() {
+        println!("{:<52} {:>10.3} {:>10.3}", c.name, 1e3 * c.min(), 1e3 * c.median());
+    }
+}
+
+fn median_of(cases: &[Case<'_>], name: &str) -> f64 {
+    cases
+        .iter()
+        .find(|c| c.name == name)
+        .map_or(f64::NAN, Case::median)
+}
+
+/// The equation-space pattern `Model::new` builds.
+fn model_pattern(model: &Model) -> Pattern {
+    let joint_nodes: Vec<Vec<usize>> = model
+        .mesh
+        .joints
+        .iter()
+        .flat_map(|j| j.elements.iter())
+        .map(|e| e.bottom.iter().chain(&e.top).copied().collect())
+        .collect();
+    Pattern::new(
+        &model.dofs,
+        model
+            .mesh
+            .cells
+            .iter()
+            .map(|c| c.nodes.as_slice())
+            .chain(joint_nodes.iter().map(Vec::as_slice)),
+    )
+}
+
+/// Every element's stiffness of harmonic `m`, handed to `f(element, nodes, K_e)`
+/// (cells, then joint elements, as the library's loop).
+fn for_each_element(model: &Model, m: u32, mut f: impl FnMut(usize, &[usize], &DMatrix<f64>)) {
+    let mesh = &model.mesh;
+    let mut scratch = SolidScratch::new(axijoint_mesh::CellKind::Quad9);
+    let mut ke = DMatrix::zeros(0, 0);
+    let mut coords: Vec<[f64; 2]> = Vec::with_capacity(9);
+    let mut nodes: Vec<usize> = Vec::with_capacity(12);
+    let mut index = 0;
+    for cell in &mesh.cells {
+        coords.clear();
+        coords.extend(cell.nodes.iter().map(|&n| mesh.nodes[n]));
+        solid_stiffness(cell.kind, &coords, &model.materials[cell.body], m, &mut scratch, &mut ke);
+        f(index, &cell.nodes, &ke);
+        index += 1;
+    }
+    for (joint, props) in mesh.joints.iter().zip(&model.joints) {
+        for el in &joint.elements {
+            coords.clear();
+            coords.extend(el.bottom.iter().map(|&n| mesh.nodes[n]));
+            joint_stiffness(el.kind, &coords, &props.springs, m, props.rule, &mut ke);
+            nodes.clear();
+            nodes.extend_from_slice(&el.bottom);
+            nodes.extend_from_slice(&el.top);
+            f(index, &nodes, &ke);
+            index += 1;
+        }
+    }
+}
+
+/// The library's scatter (a binary search per entry).
+fn scatter_search(pattern: &Pattern, model: &Model, pinned: &[bool], nodes: &[usize], ke: &DMatrix<f64>, values: &mut [f64]) {
+    let dofs = &model.dofs;
+    let nd = 3 * nodes.len();
+    for a in 0..nd {
+        let da = 3 * nodes[a / 3] + a % 3;
+        for (ea, ca) in dofs.terms(da) {
+            if pinned[ea] {
+                continue;
+            }
+            for b in 0..nd {
+                let k = ke[(a, b)];
+                if k == 0.0 {
+                    continue;
+                }
+                let db = 3 * nodes[b / 3] + b % 3;
+                for (eb, cb) in dofs.terms(db) {
+                    if ea <= eb && !pinned[eb] {
+                        values[pattern.slot(ea, eb)] += ca * cb * k;
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// Per element, the slots of its (a, term, b, term) pairs with `ea <= eb`,
+/// in the scatter's order: looked up once, reused by every harmonic.
+struct SlotTable {
+    start: Vec<usize>,
+    entries: Vec<(u32, u32, f64)>, // (local a * 64 + b, equation ea, coefficient)
+    slots: Vec<u32>,
+}
+
+impl SlotTable {
+    fn new(pattern: &Pattern, model: &Model) -> SlotTable {
+        let dofs = &model.dofs;
+        let mut table = SlotTable {
+            start: vec![0],
+            entries: Vec::new(),
+            slots: Vec::new(),
+        };
+        let mut visit = |nodes: &[usize]| {
+            let nd = 3 * nodes.len();
+            for a in 0..nd {
+                let da = 3 * nodes[a / 3] + a % 3;
+                for (ea, ca) in dofs.terms(da) {
+                    for b in 0..nd {
+                        let db = 3 * nodes[b / 3] + b % 3;
+                        for (eb, cb) in dofs.terms(db) {
+                            if ea <= eb {
+                                table.entries.push(((a * 64 + b) as u32, ea as u32, ca * cb));
+                                table.slots.push(pattern.slot(ea, eb) as u32);
+                            }
+                        }
+                    }
+                }
+            }
+            table.start.push(table.slots.len());
+        };
+        for c in &model.mesh.cells {
+            visit(&c.nodes);
+        }
+        for j in &model.mesh.joints {
+            for e in &j.elements {
+                let nodes: Vec<usize> = e.bottom.iter().chain(&e.top).copied().collect();
+                visit(&nodes);
+            }
+        }
+        table
+    }
+
+    /// Scatter of element `index` (pinned rows and columns skipped).
+    fn scatter(&self, index: usize, pinned_slot: &[bool], ke: &DMatrix<f64>, values: &mut [f64]) {
+        for k in self.start[index]..self.start[index + 1] {
+            let slot = self.slots[k] as usize;
+            if pinned_slot[slot] {
+                continue;
+            }
+            let (ab, _, c) = self.entries[k];
+            let (a, b) = ((ab / 64) as usize, (ab % 64) as usize);
+            values[slot] += c * ke[(a, b)];
+        }
+    }
+}
+
+/// Slots in a pinned row or column of harmonic `m`.
+fn pinned_slots(pattern: &Pattern, pinned: &[bool]) -> Vec<bool> {
+    let mut out = vec![false; pattern.nnz()];
+    for col in 0..pattern.n {
+        for k in pattern.col_ptr[col]..pattern.col_ptr[col + 1] {
+            out[k] = pinned[col] || pinned[pattern.row_idx[k]];
+        }
+    }
+    out
+}
+
+fn main() {
+    let size: f64 = env_or("AXIJOINT_BENCH_SIZE", 0.12);
+    let reps: usize = env_or("AXIJOINT_BENCH_REPS", 15);
+    let m_max: u32 = env_or("AXIJOINT_BENCH_M", 4);
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../geo/pile_footing.json");
+    let mut scene = Scene::from_path(path).expect("Scene P");
+    scene.mesh.parameters.insert("size".into(), size);
+    scene.harmonics = m_max;
+    let (mesh, _) = mesh_scene(&scene, None).expect("gmsh meshes Scene P");
+    let model = build_model(&scene, mesh).expect("model");
+    let pattern = model_pattern(&model);
+    assert_eq!(pattern.nnz(), model.nnz(), "the bench's pattern is the model's");
+    let n = model.n_eq();
+    println!(
+        "# axijoint linear micro-benchmark: Scene P, size {size}, {} nodes, {} cells, {n} DOF per harmonic, nnz(K upper) {}, {} rayon threads",
+        model.mesh.nodes.len(),
+        model.mesh.cells.len(),
+        model.nnz(),
+        rayon::current_num_threads()
+    );
+    if let Ok(l) = std::fs::read_to_string("/proc/loadavg") {
+        println!("# load average at start: {}", l.trim());
+    }
+    let m = 2;
+
+    // Assembly.
+    let pinned = model.dofs.pinned(m);
+    let table = SlotTable::new(&pattern, &model);
+    let pinned_slot = pinned_slots(&pattern, &pinned);
+    {
+        // The slot-table scatter gives the library's values.
+        let (lib, _) = model.assemble(m);
+        let mut mine = vec![0.0; pattern.nnz()];
+        for_each_element(&model, m, |i, _, ke| table.scatter(i, &pinned_slot, ke, &mut mine));
+        let worst = lib
+            .iter()
+            .zip(&mine)
+            .enumerate()
+            .filter(|(k, _)| !pinned_slot[*k])
+            .map(|(_, (a, b))| (a - b).abs() / a.abs().max(1e-300))
+            .filter(|r| r.is_finite())
+            .fold(0.0f64, f64::max);
+        assert!(worst < 1e-9, "slot-table scatter differs from Model::assemble: {worst:e}");
+    }
+    let mut asm = [
+        Case::new("assemble: Model::assemble", Par::Seq, || {
+            black_box(model.assemble(m));
+        }),
+        Case::new("assemble: element matrices only", Par::Seq, || {
+            let mut s = 0.0;
+            for_each_element(&model, m, |_, _, ke| s += ke[(0, 0)]);
+            black_box(s);
+        }),
+        Case::new("assemble: elements + scatter (binary search)", Par::Seq, || {
+            let mut values = vec![0.0; pattern.nnz()];
+            for_each_element(&model, m, |_, nodes, ke| scatter_search(&pattern, &model, &pinned, nodes, ke, &mut values));
+            black_box(values);
+        }),
+        Case::new("assemble: elements + scatter (slot table)", Par::Seq, || {
+            let mut values = vec![0.0; pattern.nnz()];
+            for_each_element(&model, m, |i, _, ke| table.scatter(i, &pinned_slot, ke, &mut values));
+            black_box(values);
+        }),
+    ];
+    run_group(&format!("assembly of harmonic {m}"), reps, &mut asm);
+    let t_asm = median_of(&asm, "assemble: Model::assemble");
+    let t_el = median_of(&asm, "assemble: element matrices only");
+    let t_bs = median_of(&asm, "assemble: elements + scatter (binary search)");
+    let t_tab = median_of(&asm, "assemble: elements + scatter (slot table)");
+    println!(
+        "element matrices / Model::assemble = {:.2}; scatter (binary search) / Model::assemble = {:.2}; slot table / binary search (whole assembly) = {:.2}",
+        t_el / t_asm,
+        (t_bs - t_el) / t_asm,
+        t_tab / t_bs
+    );
+    println!(
+        "slot table: {} entries, {:.1} MiB",
+        table.slots.len(),
+        (table.slots.len() * 4 + table.entries.len() * 16) as f64 / 1048576.0
+    );
+
+    // Numeric factorization.
+    let sym_ref = SymbolicSparseColMatRef::new_checked(n, n, &pattern.col_ptr, None, &pattern.row_idx);
+    let symbolic = SymbolicLlt::try_new(sym_ref, Side::Upper).expect("symbolic");
+    let (values, _) = model.assemble(m);
+    let mat = SparseColMatRef::new(sym_ref, &values);
+    let numeric = || Llt::try_new_with_symbolic(symbolic.clone(), mat, Side::Upper).expect("SPD");
+    let ms: Vec<u32> = (0..=m_max).collect();
+    let mut fac = [
+        Case::new("numeric Cholesky, Par::Seq", Par::Seq, || {
+            black_box(numeric());
+        }),
+        Case::new("numeric Cholesky, Par::rayon(0)", Par::rayon(0), || {
+            black_box(numeric());
+        }),
+        Case::new("Model::factorize, Par::Seq", Par::Seq, || {
+            black_box(model.factorize(m).expect("factor"));
+        }),
+        Case::new("Model::factorize, Par::rayon(0)", Par::rayon(0), || {
+            black_box(model.factorize(m).expect("factor"));
+        }),
+        Case::new("Model::factorize_all(0..=M), Par::Seq", Par::Seq, || {
+            black_box(model.factorize_all(&ms).expect("factors"));
+        }),
+        Case::new("Model::factorize_all(0..=M), Par::rayon(0)", Par::rayon(0), || {
+            black_box(model.factorize_all(&ms).expect("factors"));
+        }),
+    ];
+    run_group(&format!("factorization (harmonic {m}; factorize_all: M = {m_max})"), reps, &mut fac);
+    let t_num_seq = median_of(&fac, "numeric Cholesky, Par::Seq");
+    let t_num_ray = median_of(&fac, "numeric Cholesky, Par::rayon(0)");
+    let t_fz_seq = median_of(&fac, "Model::factorize, Par::Seq");
+    let t_fz_ray = median_of(&fac, "Model::factorize, Par::rayon(0)");
+    let t_all_seq = median_of(&fac, "Model::factorize_all(0..=M), Par::Seq");
+    let t_all_ray = median_of(&fac, "Model::factorize_all(0..=M), Par::rayon(0)");
+    println!(
+        "rayon(0) / Seq: numeric {:.2}, Model::factorize {:.2}, factorize_all {:.2}",
+        t_num_ray / t_num_seq,
+        t_fz_ray / t_fz_seq,
+        t_all_ray / t_all_seq
+    );
+    println!(
+        "factorize_all(M + 1 = {}) / (M + 1) / Model::factorize, Seq: {:.2} (2 cores: 0.5 is perfect parallel speed-up)",
+        ms.len(),
+        t_all_seq / ms.len() as f64 / t_fz_seq
+    );
+
+    // Solves.
+    let factor = model.factorize(m).expect("factor");
+    let llt = {
+        faer::set_global_parallelism(Par::Seq);
+        numeric()
+    };
+    let n_dofs = 3 * model.mesh.nodes.len();
+    let fa: Vec<f64> = (0..n_dofs).map(|i| ((i as f64 + 1.0) * 0.754_877_666).fract() - 0.5).collect();
+    let fb: Vec<f64> = (0..n_dofs).map(|i| ((i as f64 + 1.0) * 0.569_840_291).fract() - 0.5).collect();
+    let ba = Mat::from_fn(n, 1, |i, _| fa[i]);
+    let bb = Mat::from_fn(n, 1, |i, _| fb[i]);
+    let b2 = Mat::from_fn(n, 2, |i, j| if j == 0 { fa[i] } else { fb[i] });
+    let mut x = 0.0;
+    let mut probe = vec![0.0; n];
+    let mut sol = [
+        Case::new("Model::solve, 1 call x 2 RHS, Seq", Par::Seq, || {
+            black_box(model.solve(&factor, &[&fa, &fb]));
+        }),
+        Case::new("Model::solve, 2 calls x 1 RHS, Seq", Par::Seq, || {
+            black_box(model.solve(&factor, &[&fa]));
+            black_box(model.solve(&factor, &[&fb]));
+        }),
+        Case::new("Model::solve, 1 call x 2 RHS, rayon(0)", Par::rayon(0), || {
+            black_box(model.solve(&factor, &[&fa, &fb]));
+        }),
+        Case::new("Model::solve, 2 calls x 1 RHS, rayon(0)", Par::rayon(0), || {
+            black_box(model.solve(&factor, &[&fa]));
+            black_box(model.solve(&factor, &[&fb]));
+        }),
+        Case::new("faer solve_in_place, n x 2, Seq", Par::Seq, || {
+            let mut r = b2.clone();
+            llt.solve_in_place(r.as_mut());
+            x += r[(0, 0)];
+        }),
+        Case::new("faer solve_in_place, 2 x (n x 1), Seq", Par::Seq, || {
+            let (mut r1, mut r2) = (ba.clone(), bb.clone());
+            llt.solve_in_place(r1.as_mut());
+            llt.solve_in_place(r2.as_mut());
+            x += r1[(0, 0)] + r2[(0, 0)];
+        }),
+        Case::new("probe of Model::factorize (matvec + 1 RHS), Seq", Par::Seq, || {
+            pattern.sym_matvec(&values, &fa[..n], &mut probe);
+            let mut r = Mat::from_fn(n, 1, |i, _| probe[i]);
+            llt.solve_in_place(r.as_mut());
+            x += r[(0, 0)];
+        }),
+    ];
+    run_group(&format!("solves (harmonic {m})"), reps.max(30), &mut sol);
+    black_box(x);
+    let s2_seq = median_of(&sol, "Model::solve, 1 call x 2 RHS, Seq");
+    let s11_seq = median_of(&sol, "Model::solve, 2 calls x 1 RHS, Seq");
+    let s2_ray = median_of(&sol, "Model::solve, 1 call x 2 RHS, rayon(0)");
+    let s11_ray = median_of(&sol, "Model::solve, 2 calls x 1 RHS, rayon(0)");
+    let f2 = median_of(&sol, "faer solve_in_place, n x 2, Seq");
+    let f11 = median_of(&sol, "faer solve_in_place, 2 x (n x 1), Seq");
+    let t_probe = median_of(&sol, "probe of Model::factorize (matvec + 1 RHS), Seq");
+    println!(
+        "2 calls x 1 RHS / 1 call x 2 RHS: Model::solve Seq {:.2}, rayon(0) {:.2}; faer alone {:.2}",
+        s11_seq / s2_seq,
+        s11_ray / s2_ray,
+        f11 / f2
+    );
+    println!("rayon(0) / Seq, Model::solve 2 RHS: {:.2}", s2_ray / s2_seq);
+    println!("probe / Model::factorize (Seq): {:.2}", t_probe / t_fz_seq);
+    let total = t_asm + t_num_seq + s2_seq;
+    println!(
+        "\nshare of one harmonic (Seq; assembly + numeric Cholesky + 2-RHS solve = {:.1} ms): assembly {:.0} %, numeric {:.0} %, solve {:.0} %",
+        1e3 * total,
+        100.0 * t_asm / total,
+        100.0 * t_num_seq / total,
+        100.0 * s2_seq / total
+    );
+}

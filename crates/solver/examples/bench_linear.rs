@@ -1,0 +1,259 @@
+//! Benchmark driver of the linear solve (issue 3, item 5); `scripts/bench`
+//! runs it. Meshes a scene (Scene P by default) at one element size, then
+//!
+//! 1. per harmonic, one harmonic at a time (the median over the sampled
+//!    harmonics 0, 1, 2, each timed several times on small models):
+//!    assembly (`Model::assemble`), `Model::factorize` (assembly + numeric
+//!    Cholesky + probe solve; the factorization column is this minus the
+//!    assembly) and one `Model::solve` call with two right-hand sides;
+//! 2. the production path of `axijoint solve`: `Model::factorize_all` of
+//!    harmonics 0..=M (rayon over harmonics, all factors kept) and the
+//!    2-RHS solves of every harmonic in parallel (wall times);
+//!
+//! and prints one CSV row (`--header` prints the header first). Peak memory
+//! is the process's RSS high-water mark (`VmHWM`): after step 1 (one factor
+//! alive) and at the end (M + 1 factors alive). gmsh runs as a child
+//! process and is not included.
+//!
+//! ```text
+//! cargo run --release -p axijoint-solver --example bench_linear -- \
+//!     --size 0.04 --harmonics 16 [--refine 2] [--par default|seq|rayon] \
+//!     [--scene geo/pile_footing.json] [--header]
+//! ```
+
+use axijoint_solver::assembly::Pattern;
+use axijoint_solver::driver::{build_model, mesh_scene};
+use axijoint_solver::linear::Model;
+use axijoint_solver::scene::Scene;
+use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, SymbolicCholeskyRaw};
+use faer::sparse::SymbolicSparseColMatRef;
+use faer::Side;
+use rayon::prelude::*;
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+const HEADER: &str = "scene,size,refine,M,par,threads,nodes,cells,dof,nnz_K,nnz_L,supernodal,\
+mesh_s,setup_s,assemble_s,factor_s,solve2_s,factorize_all_s,solve_all_s,\
+factorize_all_per_h_s,solve_all_per_h_s,peak_one_mb,peak_mb";
+
+struct Args {
+    scene: PathBuf,
+    size: f64,
+    refine: Option<f64>,
+    harmonics: u32,
+    par: String,
+    header: bool,
+}
+
+fn usage() -> String {
+    "usage: bench_linear --size S --harmonics M [--refine R] [--par default|seq|rayon] [--scene FILE] [--header]"
+        .into()
+}
+
+fn parse_args() -> Result<Args, String> {
+    let mut args = Args {
+        scene: PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../geo/pile_footing.json")),
+        size: f64::NAN,
+        refine: None,
+        harmonics: 4,
+        par: "default".into(),
+        header: false,
+    };
+    let mut it = std::env::args().skip(1);
+    while let Some(a) = it.next() {
+        let mut value = |name: &str| it.next().ok_or_else(|| format!("{name} needs a value\n{}", usage()));
+        let num = |s: String, name: &str| s.parse::<f64>().map_err(|e| format!("{name}: {e}"));
+        match a.as_str() {
+            "--scene" => args.scene = PathBuf::from(value("--scene")?),
+            "--size" => args.size = num(value("--size")?, "--size")?,
+            "--refine" => args.refine = Some(num(value("--refine")?, "--refine")?),
+            "--harmonics" => {
+                args.harmonics = value("--harmonics")?
+                    .parse()
+                    .map_err(|e| format!("--harmonics: {e}"))?
+            }
+            "--par" => args.par = value("--par")?,
+            "--header" => args.header = true,
+            "-h" | "--help" => return Err(usage()),
+            other => return Err(format!("unknown argument {other}\n{}", usage())),
+        }
+    }
+    if !(args.size > 0.0) {
+        return Err(format!("--size must be given and positive\n{}", usage()));
+    }
+    Ok(args)
+}
+
+/// Peak resident set size of this process so far, in MiB.
+fn peak_rss_mb() -> f64 {
+    std::fs::read_to_string("/proc/self/status")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("VmHWM:"))
+                .and_then(|l| l.split_whitespace().nth(1))
+                .and_then(|kb| kb.parse::<f64>().ok())
+        })
+        .map_or(f64::NAN, |kb| kb / 1024.0)
+}
+
+/// Median of the run times of `f`, repeated until `budget` seconds are spent
+/// (at least once, at most `max_reps` times).
+fn timed<T>(budget: f64, max_reps: usize, mut f: impl FnMut() -> T) -> (f64, T) {
+    let mut times = Vec::new();
+    let start = Instant::now();
+    loop {
+        let t = Instant::now();
+        let out = f();
+        times.push(t.elapsed().as_secs_f64());
+        if times.len() >= max_reps || start.elapsed().as_secs_f64() >= budget {
+            times.sort_by(f64::total_cmp);
+            return (times[times.len() / 2], out);
+        }
+        drop(out);
+    }
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+/// Deterministic node-DOF load vectors (the solve cost does not depend on them).
+fn loads(n_dofs: usize) -> (Vec<f64>, Vec<f64>) {
+    let a = (0..n_dofs).map(|i| ((i as f64 + 1.0) * 0.754_877_666).fract() - 0.5).collect();
+    let b = (0..n_dofs).map(|i| ((i as f64 + 1.0) * 0.569_840_291).fract() - 0.5).collect();
+    (a, b)
+}
+
+/// Entries of the Cholesky factor and whether faer chose the supernodal
+/// kind, from the same pattern `Model::new` builds.
+fn factor_size(model: &Model) -> (usize, bool) {
+    let joint_nodes: Vec<Vec<usize>> = model
+        .mesh
+        .joints
+        .iter()
+        .flat_map(|j| j.elements.iter())
+        .map(|e| e.bottom.iter().chain(&e.top).copied().collect())
+        .collect();
+    let pattern = Pattern::new(
+        &model.dofs,
+        model
+            .mesh
+            .cells
+            .iter()
+            .map(|c| c.nodes.as_slice())
+            .chain(joint_nodes.iter().map(Vec::as_slice)),
+    );
+    let sym = SymbolicSparseColMatRef::new_checked(pattern.n, pattern.n, &pattern.col_ptr, None, &pattern.row_idx);
+    match factorize_symbolic_cholesky(sym, Side::Upper, Default::default(), Default::default()) {
+        Ok(s) => (s.len_val(), matches!(s.raw(), SymbolicCholeskyRaw::Supernodal(_))),
+        Err(_) => (0, false),
+    }
+}
+
+fn run(args: &Args) -> Result<String, String> {
+    match args.par.as_str() {
+        "default" => {}
+        "seq" => faer::set_global_parallelism(faer::Par::Seq),
+        "rayon" => faer::set_global_parallelism(faer::Par::rayon(0)),
+        other => return Err(format!("--par {other}: expected default, seq or rayon")),
+    }
+    let mut scene = Scene::from_path(&args.scene).map_err(|e| e.to_string())?;
+    scene.mesh.parameters.insert("size".into(), args.size);
+    if let Some(r) = args.refine {
+        scene.mesh.parameters.insert("refine".into(), r);
+    }
+    scene.harmonics = args.harmonics;
+    let refine = scene.mesh.parameters.get("refine").copied().unwrap_or(f64::NAN);
+    let m_max = args.harmonics;
+
+    let t = Instant::now();
+    let (mesh, _) = mesh_scene(&scene, None).map_err(|e| e.to_string())?;
+    let mesh_s = t.elapsed().as_secs_f64();
+    let (nodes, cells) = (mesh.nodes.len(), mesh.cells.len());
+    let t = Instant::now();
+    let model = build_model(&scene, mesh).map_err(|e| e.to_string())?;
+    let setup_s = t.elapsed().as_secs_f64();
+    let (nnz_l, supernodal) = factor_size(&model);
+    eprintln!(
+        "bench_linear: size {} M {m_max}: {} DOF per harmonic, nnz(K) {}, nnz(L) {nnz_l}; mesh {mesh_s:.2} s, setup {setup_s:.2} s",
+        args.size,
+        model.n_eq(),
+        model.nnz()
+    );
+    let (fa, fb) = loads(3 * nodes);
+
+    // 1. Per harmonic, one at a time.
+    let small = model.n_eq() < 200_000;
+    let (budget, reps) = if small { (1.0, 9) } else { (0.0, 1) };
+    let (mut asm, mut fac, mut sol) = (Vec::new(), Vec::new(), Vec::new());
+    for m in (0..=m_max).take(3) {
+        let (ta, _) = timed(budget, reps, || model.assemble(m));
+        let (tf, factor) = timed(budget, reps, || model.factorize(m));
+        let factor = factor.map_err(|e| e.to_string())?;
+        let (ts, _) = timed(budget, reps.max(3), || model.solve(&factor, &[&fa, &fb]));
+        eprintln!("  m = {m}: assemble {ta:.4} s, factorize {tf:.4} s, solve(2 RHS) {ts:.4} s");
+        asm.push(ta);
+        fac.push((tf - ta).max(0.0));
+        sol.push(ts);
+    }
+    let peak_one = peak_rss_mb();
+
+    // 2. The production path: all harmonics, in parallel, factors kept.
+    let ms: Vec<u32> = (0..=m_max).collect();
+    let t = Instant::now();
+    let factors = model.factorize_all(&ms).map_err(|e| e.to_string())?;
+    let fall = t.elapsed().as_secs_f64();
+    let t = Instant::now();
+    let solved: usize = factors
+        .par_iter()
+        .map(|f| model.solve(f, &[&fa, &fb]).len())
+        .sum();
+    let sall = t.elapsed().as_secs_f64();
+    assert_eq!(solved, 2 * ms.len());
+    let peak = peak_rss_mb();
+    eprintln!("  all {} harmonics: factorize_all {fall:.3} s, solves {sall:.3} s, peak {peak:.0} MiB", ms.len());
+    drop(factors);
+
+    let h = ms.len() as f64;
+    let scene_name = args.scene.file_stem().map_or("?".into(), |s| s.to_string_lossy().into_owned());
+    Ok(format!(
+        "{scene_name},{},{refine},{m_max},{},{},{nodes},{cells},{},{},{nnz_l},{},{mesh_s:.4},{setup_s:.4},{:.6},{:.6},{:.6},{fall:.4},{sall:.4},{:.6},{:.6},{peak_one:.1},{peak:.1}",
+        args.size,
+        args.par,
+        rayon::current_num_threads(),
+        model.n_eq(),
+        model.nnz(),
+        u8::from(supernodal),
+        median(asm),
+        median(fac),
+        median(sol),
+        fall / h,
+        sall / h,
+    ))
+}
+
+fn main() -> ExitCode {
+    let args = match parse_args() {
+        Ok(a) => a,
+        Err(e) => {
+            eprintln!("{e}");
+            return ExitCode::from(2);
+        }
+    };
+    if args.header {
+        println!("{HEADER}");
+    }
+    match run(&args) {
+        Ok(row) => {
+            println!("{row}");
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("bench_linear: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
