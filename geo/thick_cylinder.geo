@@ -1,23 +1,28 @@
-// Thick-walled cylinder (tube) for the Lame verification (DESIGN.md 6).
-// Meridional half plane: gmsh x = r, gmsh y = z.
+// Cylinder r in [hole, a], z in [0, L] with a structured (transfinite) mesh:
+// the twin of cylinder.geo for verification that needs parallelogram cells
+// or nested refinements (DESIGN.md 6: the Lame thick cylinder; exactness of
+// the serendipity Q8, which reproduces quadratic fields only on
+// parallelograms). Meridional half plane: gmsh x = r, gmsh y = z.
 //
 //   z = L  +--------+   top
 //          |        |
-//    inner |  tube  | outer
+//    inner |  body  | side
 //          |        |
 //   z = 0  +--------+   bottom
-//        r = ai    r = b
+//       r = hole   r = a
 //
-// Parameters (gmsh -setnumber): ai (inner radius, > 0), b (outer radius),
-// L (height), size (element size), order (1|2), quads (0|1),
+// hole > 0: a thick tube, the curve r = hole is "inner".
+// hole = 0: a solid cylinder, the curve r = 0 is "axis" and its bottom end
+// the physical point "origin" (names as in cylinder.geo).
+//
+// Parameters (gmsh -setnumber): a, hole, L, size, order (1|2), quads (0|1),
 // serendipity (0|1), transfinite (0|1).
-// transfinite = 1 gives a structured mesh of Round((b - ai) / size) by
-// Round(L / size) cells (quads, or each quad cut into two triangles along
-// the same diagonal direction), so that halving `size` nests the meshes:
-// convergence rates come out clean. transfinite = 0 leaves gmsh's
-// unstructured mesher with target size `size`.
-If (!Exists(ai)) ai = 0.5; EndIf
-If (!Exists(b)) b = 1.0; EndIf
+// transfinite = 1: Round((a - hole) / size) by Round(L / size) cells, quads,
+// or each quad cut along the same diagonal direction into two triangles;
+// halving `size` nests the meshes, so convergence rates come out clean.
+// transfinite = 0: gmsh's unstructured mesher with target size `size`.
+If (!Exists(a)) a = 1.0; EndIf
+If (!Exists(hole)) hole = 0.5; EndIf
 If (!Exists(L)) L = 0.5; EndIf
 If (!Exists(size)) size = 0.125; EndIf
 If (!Exists(order)) order = 2; EndIf
@@ -25,10 +30,10 @@ If (!Exists(quads)) quads = 1; EndIf
 If (!Exists(serendipity)) serendipity = 0; EndIf
 If (!Exists(transfinite)) transfinite = 1; EndIf
 
-Point(1) = {ai, 0, 0, size};
-Point(2) = {b, 0, 0, size};
-Point(3) = {b, L, 0, size};
-Point(4) = {ai, L, 0, size};
+Point(1) = {hole, 0, 0, size};
+Point(2) = {a, 0, 0, size};
+Point(3) = {a, L, 0, size};
+Point(4) = {hole, L, 0, size};
 Line(1) = {1, 2};
 Line(2) = {2, 3};
 Line(3) = {3, 4};
@@ -37,7 +42,7 @@ Curve Loop(1) = {1, 2, 3, 4};
 Plane Surface(1) = {1};
 
 If (transfinite)
-  nr = Round((b - ai) / size);
+  nr = Round((a - hole) / size);
   nz = Round(L / size);
   If (nr < 1) nr = 1; EndIf
   If (nz < 1) nz = 1; EndIf
@@ -50,8 +55,13 @@ Mesh.ElementOrder = order;
 Mesh.SecondOrderIncomplete = serendipity;
 Mesh.RecombineAll = quads;
 
-Physical Surface("tube") = {1};
+Physical Surface("body") = {1};
 Physical Curve("bottom") = {1};
-Physical Curve("outer") = {2};
+Physical Curve("side") = {2};
 Physical Curve("top") = {3};
-Physical Curve("inner") = {4};
+If (hole > 0)
+  Physical Curve("inner") = {4};
+Else
+  Physical Curve("axis") = {4};
+  Physical Point("origin") = {1};
+EndIf

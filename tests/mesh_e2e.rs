@@ -54,13 +54,28 @@ fn scene_p_areas_and_joint_in_every_family() {
             .collect();
 
         let mesh = scene_p(family, 0.25);
-        assert!(mesh.cells.iter().all(|c| c.kind.name() == family), "{family}: mixed families");
+        assert!(
+            mesh.cells.iter().all(|c| c.kind.name() == family),
+            "{family}: mixed families"
+        );
         let s = Summary::of(&mesh);
         let area = |b: &str| s.bodies[b].area;
-        assert!((area("footing") - 5.5).abs() < 1e-12, "{family}: footing area {}", area("footing"));
-        assert!((area("pile") - 1.25).abs() < 1e-12, "{family}: pile area {}", area("pile"));
+        assert!(
+            (area("footing") - 5.5).abs() < 1e-12,
+            "{family}: footing area {}",
+            area("footing")
+        );
+        assert!(
+            (area("pile") - 1.25).abs() < 1e-12,
+            "{family}: pile area {}",
+            area("pile")
+        );
         let j = &s.joints["pile_side"];
-        assert!((j.lateral_area - PI).abs() < 1e-12, "{family}: lateral area {}", j.lateral_area);
+        assert!(
+            (j.lateral_area - PI).abs() < 1e-12,
+            "{family}: lateral area {}",
+            j.lateral_area
+        );
         assert!((j.length - 1.0).abs() < 1e-12);
         assert_eq!(j.duplicated_nodes, side.len() - 1, "{family}");
         assert_eq!(mesh.nodes.len(), plain.nodes.len() + side.len() - 1, "{family}");
@@ -92,13 +107,20 @@ fn joint_orientation_and_pairing() {
             let (a, b) = (mesh.nodes[el.bottom[0]], mesh.nodes[el.bottom[1]]);
             let eta = [-(b[1] - a[1]), b[0] - a[0]];
             let (cb, ct) = (centroid(&mesh, el.bottom_cell), centroid(&mesh, el.top_cell));
-            assert!(eta[0] * (ct[0] - cb[0]) + eta[1] * (ct[1] - cb[1]) > 0.0, "{family}: normal");
+            assert!(
+                eta[0] * (ct[0] - cb[0]) + eta[1] * (ct[1] - cb[1]) > 0.0,
+                "{family}: normal"
+            );
             // On the vertical pile side the normal is +r: xi runs down (-z).
             assert!(eta[0] > 0.0 && eta[1].abs() < 1e-12);
         }
         // No footing cell touches a bottom-face node that was split.
         let split: BTreeSet<usize> = joint.duplicated.iter().map(|p| p.0).collect();
-        for cell in mesh.cells.iter().filter(|c| mesh.bodies[c.body].name == "footing") {
+        for cell in mesh
+            .cells
+            .iter()
+            .filter(|c| mesh.bodies[c.body].name == "footing")
+        {
             assert!(cell.nodes.iter().all(|n| !split.contains(n)));
         }
     }
@@ -155,13 +177,21 @@ fn error_of(path: &std::path::Path, params: &[(String, f64)], joints: &[&str]) -
 fn unknown_joint_name_is_named() {
     let e = error_of(&geo("pile_footing.geo"), &family_params("Q4", 0.5), &["pile_sde"]);
     assert!(e.contains("pile_sde") && e.contains("pile_side"), "{e}");
-    let e = error_of(&geo("pile_footing.geo"), &family_params("Q4", 0.5), &["pile_side:pile/soil"]);
+    let e = error_of(
+        &geo("pile_footing.geo"),
+        &family_params("Q4", 0.5),
+        &["pile_side:pile/soil"],
+    );
     assert!(e.contains("'soil'") && e.contains("footing"), "{e}");
 }
 
 #[test]
 fn joint_on_the_boundary_is_refused() {
-    let e = error_of(&geo("pile_footing.geo"), &family_params("Q4", 0.5), &["footing_outer"]);
+    let e = error_of(
+        &geo("pile_footing.geo"),
+        &family_params("Q4", 0.5),
+        &["footing_outer"],
+    );
     assert!(e.contains("footing_outer") && e.contains("one side only"), "{e}");
 }
 
@@ -180,7 +210,12 @@ fn cli_errors_exit_nonzero_and_name_the_culprit() {
     assert_eq!(out.status.code(), Some(1));
     assert!(err.contains("bad.geo") && err.contains("syntax error"), "{err}");
 
-    let out = axijoint(&["mesh", geo("pile_footing.geo").to_str().unwrap(), "--set", "size=abc"]);
+    let out = axijoint(&[
+        "mesh",
+        geo("pile_footing.geo").to_str().unwrap(),
+        "--set",
+        "size=abc",
+    ]);
     assert_eq!(out.status.code(), Some(1));
     assert!(text(&out).1.contains("size=abc"));
 }
@@ -198,7 +233,10 @@ fn negative_radius_is_refused() {
     )
     .unwrap();
     let e = error_of(&geo, &[], &[]);
-    assert!(e.contains("left.geo") && e.contains("r < 0") && e.contains("node"), "{e}");
+    assert!(
+        e.contains("left.geo") && e.contains("r < 0") && e.contains("node"),
+        "{e}"
+    );
 }
 
 /// A surface meshed clockwise is renumbered, not refused.
@@ -241,7 +279,10 @@ fn inverted_element_is_named() {
     )
     .unwrap();
     let e = error_of(&msh, &[], &[]);
-    assert!(e.contains("inverted.msh") && e.contains("element 11") && e.contains("inverted"), "{e}");
+    assert!(
+        e.contains("inverted.msh") && e.contains("element 11") && e.contains("inverted"),
+        "{e}"
+    );
 
     // A collinear triangle is degenerate.
     std::fs::write(
@@ -268,7 +309,10 @@ fn folded_quad_is_named() {
     )
     .unwrap();
     let e = error_of(&msh, &[], &[]);
-    assert!(e.contains("element 21") && e.contains("Jacobian changes sign"), "{e}");
+    assert!(
+        e.contains("element 21") && e.contains("Jacobian changes sign"),
+        "{e}"
+    );
 }
 
 /// An element outside every physical surface (MSH 2.2 physical tag 0).
@@ -284,7 +328,10 @@ fn element_in_no_physical_surface_is_named() {
     )
     .unwrap();
     let e = error_of(&msh, &[], &[]);
-    assert!(e.contains("orphan.msh") && e.contains("11") && e.contains("no physical surface"), "{e}");
+    assert!(
+        e.contains("orphan.msh") && e.contains("11") && e.contains("no physical surface"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -301,10 +348,18 @@ fn joint_ends_junctions_tips_and_axis() {
         let params = vec![("order".to_string(), order), ("quads".to_string(), quads)];
         let path = geo("joint_junctions.geo");
         let (plain, _) = prepare(&path, &params, &[], None).unwrap();
-        let specs: Vec<JointSpec> = ["ab", "top", "crack"].iter().map(|s| s.parse().unwrap()).collect();
+        let specs: Vec<JointSpec> = ["ab", "top", "crack"]
+            .iter()
+            .map(|s| s.parse().unwrap())
+            .collect();
         let (mesh, _) = prepare(&path, &params, &specs, None).unwrap();
         let nodes_of = |m: &Mesh, name: &str| -> BTreeSet<usize> {
-            m.curve(name).unwrap().edges.iter().flat_map(|e| e.nodes.iter().copied()).collect()
+            m.curve(name)
+                .unwrap()
+                .edges
+                .iter()
+                .flat_map(|e| e.nodes.iter().copied())
+                .collect()
         };
         let copies_at = |p: [f64; 2]| mesh.nodes.iter().filter(|q| **q == p).count();
         // Junction of three bodies at (1, 1): three copies.
@@ -329,13 +384,20 @@ fn joint_ends_junctions_tips_and_axis() {
         assert_eq!(top.bottom_bodies, vec![body("A"), body("B")]);
         assert_eq!(top.top_bodies, vec![body("C")]);
         let crack = mesh.joint("crack").unwrap();
-        assert_eq!((&crack.bottom_bodies, &crack.top_bodies), (&vec![body("C")], &vec![body("C")]));
+        assert_eq!(
+            (&crack.bottom_bodies, &crack.top_bodies),
+            (&vec![body("C")], &vec![body("C")])
+        );
         for j in &mesh.joints {
             for el in &j.elements {
                 let (a, b) = (mesh.nodes[el.bottom[0]], mesh.nodes[el.bottom[1]]);
                 let eta = [-(b[1] - a[1]), b[0] - a[0]];
                 let (cb, ct) = (centroid(&mesh, el.bottom_cell), centroid(&mesh, el.top_cell));
-                assert!(eta[0] * (ct[0] - cb[0]) + eta[1] * (ct[1] - cb[1]) > 0.0, "{}", j.name);
+                assert!(
+                    eta[0] * (ct[0] - cb[0]) + eta[1] * (ct[1] - cb[1]) > 0.0,
+                    "{}",
+                    j.name
+                );
                 for (p, q) in el.bottom.iter().zip(&el.top) {
                     assert_eq!(mesh.nodes[*p], mesh.nodes[*q]);
                 }

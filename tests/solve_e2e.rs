@@ -24,24 +24,55 @@ fn solve(scene: &str, out: &Path, extra: &[&str]) -> Value {
 #[test]
 fn scene_p_bonded_and_linear_joint() {
     let dir = tempfile::tempdir().unwrap();
-    let bonded = solve("pile_footing_bonded.json", &dir.path().join("bonded"), &["--set", "size=0.3"]);
-    let joint = solve("pile_footing.json", &dir.path().join("joint"), &["--set", "size=0.3"]);
+    let bonded = solve(
+        "pile_footing_bonded.json",
+        &dir.path().join("bonded"),
+        &["--set", "size=0.3"],
+    );
+    let joint = solve(
+        "pile_footing.json",
+        &dir.path().join("joint"),
+        &["--set", "size=0.3"],
+    );
     let ux = |v: &Value| v["loaded_faces"]["pile_end"][0].as_f64().unwrap();
     assert!(ux(&bonded) > 0.0, "the pile end moves with H (+x)");
-    assert!(ux(&joint) > 1.05 * ux(&bonded), "joint {} vs bonded {}", ux(&joint), ux(&bonded));
+    assert!(
+        ux(&joint) > 1.05 * ux(&bonded),
+        "joint {} vs bonded {}",
+        ux(&joint),
+        ux(&bonded)
+    );
     for v in [&bonded, &joint] {
         let applied: Vec<f64> = ["force", "moment"]
             .iter()
-            .flat_map(|k| v["applied"][k].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()))
+            .flat_map(|k| {
+                v["applied"][k]
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .map(|x| x.as_f64().unwrap())
+            })
             .collect();
         let reaction: Vec<f64> = ["force", "moment"]
             .iter()
-            .flat_map(|k| v["reactions"][0][k].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()))
+            .flat_map(|k| {
+                v["reactions"][0][k]
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .map(|x| x.as_f64().unwrap())
+            })
             .collect();
         // Fx = 0.5 MN at z = -3: My about the origin = z Fx = -1.5 MN m.
-        assert!((applied[0] - 0.5).abs() < 1e-12 && (applied[4] + 1.5).abs() < 1e-12, "{applied:?}");
+        assert!(
+            (applied[0] - 0.5).abs() < 1e-12 && (applied[4] + 1.5).abs() < 1e-12,
+            "{applied:?}"
+        );
         for (a, r) in applied.iter().zip(&reaction) {
-            assert!((a + r).abs() <= 1e-9 * 1.5, "applied {applied:?} reaction {reaction:?}");
+            assert!(
+                (a + r).abs() <= 1e-9 * 1.5,
+                "applied {applied:?} reaction {reaction:?}"
+            );
         }
     }
 }
@@ -50,12 +81,20 @@ fn scene_p_bonded_and_linear_joint() {
 fn solution_reads_back_identically() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("p");
-    let v = solve("pile_footing.json", &out, &["--set", "size=0.4", "--harmonics", "2"]);
+    let v = solve(
+        "pile_footing.json",
+        &out,
+        &["--set", "size=0.4", "--harmonics", "2"],
+    );
     let saved = read_solution(&out).unwrap();
-    assert_eq!(saved.mesh.nodes.len() as u64, v["mesh"]["nodes"].as_u64().unwrap());
+    assert_eq!(
+        saved.mesh.nodes.len() as u64,
+        v["mesh"]["nodes"].as_u64().unwrap()
+    );
     assert_eq!(saved.displacements.harmonics.len(), 3);
     // The face average recomputed from the saved amplitudes equals the header's.
-    let d = axijoint_solver::driver::face_displacement(&saved.mesh, "pile_end", &saved.displacements).unwrap();
+    let d =
+        axijoint_solver::driver::face_displacement(&saved.mesh, "pile_end", &saved.displacements).unwrap();
     assert_eq!(d[0], v["loaded_faces"]["pile_end"][0].as_f64().unwrap());
     // A truncated displacement file is refused, naming it.
     let bin = out.join("displacement.f64");
@@ -74,20 +113,41 @@ fn output_folder_rules() {
     std::fs::create_dir(&precious).unwrap();
     std::fs::write(precious.join("notes.txt"), "keep me").unwrap();
     let scene = geo("pile_footing_bonded.json");
-    let run = axijoint(&["solve", scene.to_str().unwrap(), "-o", precious.to_str().unwrap(), "--set", "size=0.5"]);
+    let run = axijoint(&[
+        "solve",
+        scene.to_str().unwrap(),
+        "-o",
+        precious.to_str().unwrap(),
+        "--set",
+        "size=0.5",
+    ]);
     let (_, err) = text(&run);
     assert_eq!(run.status.code(), Some(1));
-    assert!(err.contains("mine") && err.contains("not an axijoint solution folder"), "{err}");
-    assert_eq!(std::fs::read_to_string(precious.join("notes.txt")).unwrap(), "keep me");
+    assert!(
+        err.contains("mine") && err.contains("not an axijoint solution folder"),
+        "{err}"
+    );
+    assert_eq!(
+        std::fs::read_to_string(precious.join("notes.txt")).unwrap(),
+        "keep me"
+    );
 
     let out = dir.path().join("sol");
     let first = solve("pile_footing_bonded.json", &out, &["--set", "size=0.5"]);
     let second = solve("pile_footing_bonded.json", &out, &["--set", "size=0.4"]);
     assert!(second["mesh"]["nodes"].as_u64() > first["mesh"]["nodes"].as_u64());
     // A failing run leaves the earlier solution as it was.
-    let run = axijoint(&["solve", scene.to_str().unwrap(), "-o", out.to_str().unwrap(), "--set", "size=-1"]);
+    let run = axijoint(&[
+        "solve",
+        scene.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--set",
+        "size=-1",
+    ]);
     assert_eq!(run.status.code(), Some(1));
-    let kept: Value = serde_json::from_str(&std::fs::read_to_string(out.join("solution.json")).unwrap()).unwrap();
+    let kept: Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("solution.json")).unwrap()).unwrap();
     assert_eq!(kept["mesh"]["nodes"], second["mesh"]["nodes"]);
     // No staging folders are left behind.
     let names: Vec<String> = std::fs::read_dir(dir.path())
@@ -105,9 +165,17 @@ fn bad_scene_names_the_key() {
     assert_ne!(bad, good);
     let path = dir.path().join("bad.json");
     // The mesh file is relative to the scene: point it back to geo/.
-    let bad = bad.replace("\"pile_footing.geo\"", &format!("{:?}", geo("pile_footing.geo").to_str().unwrap()));
+    let bad = bad.replace(
+        "\"pile_footing.geo\"",
+        &format!("{:?}", geo("pile_footing.geo").to_str().unwrap()),
+    );
     std::fs::write(&path, bad).unwrap();
-    let run = axijoint(&["solve", path.to_str().unwrap(), "-o", dir.path().join("o").to_str().unwrap()]);
+    let run = axijoint(&[
+        "solve",
+        path.to_str().unwrap(),
+        "-o",
+        dir.path().join("o").to_str().unwrap(),
+    ]);
     let (_, err) = text(&run);
     assert_eq!(run.status.code(), Some(1));
     assert!(err.contains("bad.json") && err.contains("nu"), "{err}");

@@ -5,13 +5,18 @@
 //! command-line usage error (from clap).
 
 mod mesh_cmd;
+mod report_cmd;
 mod solve_cmd;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 
 #[derive(Parser)]
-#[command(name = "axijoint", version, about = "Axisymmetric bodies under non-axisymmetric loads, with joints that open and slip")]
+#[command(
+    name = "axijoint",
+    version,
+    about = "Axisymmetric bodies under non-axisymmetric loads, with joints that open and slip"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -25,6 +30,8 @@ enum Command {
     Solve(solve_cmd::SolveArgs),
     /// Mesh, solve and write every result of a scene [default: Scene P].
     Run(solve_cmd::RunArgs),
+    /// Regenerate every output (CSV, plots, views, summary.json) of a saved solution folder.
+    Report(report_cmd::ReportArgs),
 }
 
 fn main() -> ExitCode {
@@ -33,6 +40,7 @@ fn main() -> ExitCode {
         Command::Mesh(args) => mesh_cmd::run(&args),
         Command::Solve(args) => solve_cmd::run_solve(&args),
         Command::Run(args) => solve_cmd::run_run(&args),
+        Command::Report(args) => report_cmd::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -65,7 +65,10 @@ pub fn run(args: &MeshArgs) -> Result<()> {
     } else {
         println!("{}", args.input.display());
         if validation.reoriented > 0 {
-            println!("note: {} elements of clockwise surfaces renumbered counter-clockwise", validation.reoriented);
+            println!(
+                "note: {} elements of clockwise surfaces renumbered counter-clockwise",
+                validation.reoriented
+            );
         }
         print!("{summary}");
     }

@@ -3,7 +3,7 @@
 use anyhow::{Context, Result};
 use axijoint_solver::driver::{solution_header, solve_scene, Run};
 use axijoint_solver::iteration::IterationRecord;
-use axijoint_solver::results::{write_solution, SolutionHeader};
+use axijoint_solver::results::{write_solution, JointFieldFile, SolutionHeader};
 use axijoint_solver::scene::Scene;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -28,7 +28,7 @@ pub struct RunArgs {
 
 #[derive(Args)]
 pub struct CommonArgs {
-    /// Output folder [default: out/<scene name> in the current folder].
+    /// Output folder [default: out/SCENE-NAME in the current folder].
     #[arg(short, long, value_name = "DIR")]
     pub output: Option<PathBuf>,
     /// Override a gmsh parameter of the scene's mesh, NAME=VALUE; repeatable.
@@ -63,7 +63,9 @@ pub fn load_scene(path: &Path, common: &CommonArgs) -> Result<Scene> {
 
 /// The default output folder of a scene: `out/<stem>` under the current folder.
 pub fn default_output(scene: &Path) -> PathBuf {
-    let stem = scene.file_stem().map_or("scene".into(), |s| s.to_string_lossy().into_owned());
+    let stem = scene
+        .file_stem()
+        .map_or("scene".into(), |s| s.to_string_lossy().into_owned());
     PathBuf::from("out").join(stem)
 }
 
@@ -85,10 +87,20 @@ pub fn default_scene() -> Result<PathBuf> {
 /// Solves, writes the solution folder, prints a summary; returns the header.
 pub fn solve_and_write(scene_path: &Path, common: &CommonArgs) -> Result<(Scene, PathBuf, SolutionHeader)> {
     let scene = load_scene(scene_path, common)?;
-    let out = common.output.clone().unwrap_or_else(|| default_output(scene_path));
+    let out = common
+        .output
+        .clone()
+        .unwrap_or_else(|| default_output(scene_path));
     let tmp = tempfile::tempdir().context("creating a temporary folder")?;
-    let is_geo = scene.mesh_path().extension().is_some_and(|e| e.eq_ignore_ascii_case("geo"));
-    let msh = if is_geo { tmp.path().join("mesh.msh") } else { scene.mesh_path() };
+    let is_geo = scene
+        .mesh_path()
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("geo"));
+    let msh = if is_geo {
+        tmp.path().join("mesh.msh")
+    } else {
+        scene.mesh_path()
+    };
 
     let bar = if common.quiet {
         ProgressBar::hidden()
@@ -115,7 +127,11 @@ pub fn solve_and_write(scene_path: &Path, common: &CommonArgs) -> Result<(Scene,
             "history": outcome.history,
         });
     }
-    write_solution(&out, &header, &run.linear.displacements, &msh)?;
+    let joints = run.outcome.as_ref().map(|o| {
+        let springs: Vec<_> = run.linear.model.joints.iter().map(|j| j.springs).collect();
+        JointFieldFile::new(&run.linear.model.mesh, &springs, &o.field)
+    });
+    write_solution(&out, &header, &run.linear.displacements, &msh, joints.as_ref())?;
     print_summary(scene_path, &scene, &header, &out);
     Ok((scene, out, header))
 }
@@ -178,5 +194,6 @@ pub fn run_run(args: &RunArgs) -> Result<()> {
         Some(s) => s.clone(),
         None => default_scene()?,
     };
-    solve_and_write(&scene, &args.common).map(|_| ())
+    let (_, out, _) = solve_and_write(&scene, &args.common)?;
+    crate::report_cmd::report(&out)
 }

@@ -62,9 +62,7 @@ pub fn mesh_geo(geo: &Path, parameters: &[(String, f64)], msh: &Path) -> Result<
 /// Reads a `.msh`, or meshes a `.geo` with gmsh (in a temporary folder, or
 /// into `keep_msh` when given) and reads the result.
 pub fn load(path: &Path, parameters: &[(String, f64)], keep_msh: Option<&Path>) -> Result<Mesh, MeshError> {
-    let is_geo = path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("geo"));
+    let is_geo = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("geo"));
     if !is_geo {
         return read_msh(path);
     }
@@ -93,10 +91,7 @@ fn rename_path(e: MeshError, tmp: &Path, geo: &Path) -> MeshError {
             line,
             message,
         },
-        MeshError::Invalid { path, message } if path == tmp => MeshError::Invalid {
-            path: label,
-            message,
-        },
+        MeshError::Invalid { path, message } if path == tmp => MeshError::Invalid { path: label, message },
         other => other,
     }
 }

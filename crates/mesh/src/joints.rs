@@ -102,7 +102,7 @@ struct Pending {
 }
 
 /// Turns each named curve into a joint (see the module doc). Cells must be
-/// valid and counter-clockwise ([`crate::validate`] first).
+/// valid and counter-clockwise ([`crate::validate()`] first).
 pub fn insert_joints(mesh: &mut Mesh, specs: &[JointSpec], path: &Path) -> Result<(), MeshError> {
     if specs.is_empty() {
         return Ok(());
@@ -138,7 +138,10 @@ pub fn insert_joints(mesh: &mut Mesh, specs: &[JointSpec], path: &Path) -> Resul
             known: names(mesh.curves.iter().map(|c| c.name.as_str()).collect()),
         })?;
         if curve.edges.is_empty() {
-            return Err(invalid(format!("joint '{}': the curve has no line elements", spec.curve)));
+            return Err(invalid(format!(
+                "joint '{}': the curve has no line elements",
+                spec.curve
+            )));
         }
         let body_of = |name: &Option<String>| -> Result<Option<usize>, MeshError> {
             match name {
@@ -191,25 +194,26 @@ pub fn insert_joints(mesh: &mut Mesh, specs: &[JointSpec], path: &Path) -> Resul
                 let cen = centroid(mesh, c);
                 (pb[0] - pa[0]) * (cen[1] - pa[1]) - (pb[1] - pa[1]) * (cen[0] - pa[0]) < 0.0
             };
-            let (bottom_cell, top_cell) = match explicit {
-                Some((pb, pt)) if (b0, b1) == (pb, pt) && pb != pt => (c0, c1),
-                Some((pb, pt)) if (b1, b0) == (pb, pt) && pb != pt => (c1, c0),
-                Some((pb, pt)) if !(pb == pt && b0 == pb && b1 == pb) => {
-                    return Err(invalid(format!(
+            let (bottom_cell, top_cell) =
+                match explicit {
+                    Some((pb, pt)) if (b0, b1) == (pb, pt) && pb != pt => (c0, c1),
+                    Some((pb, pt)) if (b1, b0) == (pb, pt) && pb != pt => (c1, c0),
+                    Some((pb, pt)) if !(pb == pt && b0 == pb && b1 == pb) => {
+                        return Err(invalid(format!(
                         "{here} lies between bodies '{}' and '{}', not between '{}' (bottom) and '{}' (top)",
                         mesh.bodies[b0].name, mesh.bodies[b1].name, mesh.bodies[pb].name, mesh.bodies[pt].name
                     )))
-                }
-                _ if b0 == b1 => {
-                    if right_of_curve(c0) {
-                        (c0, c1)
-                    } else {
-                        (c1, c0)
                     }
-                }
-                _ if b0 < b1 => (c0, c1),
-                _ => (c1, c0),
-            };
+                    _ if b0 == b1 => {
+                        if right_of_curve(c0) {
+                            (c0, c1)
+                        } else {
+                            (c1, c0)
+                        }
+                    }
+                    _ if b0 < b1 => (c0, c1),
+                    _ => (c1, c0),
+                };
             pending.push(Pending {
                 spec: s,
                 edge_nodes: edge.nodes.clone(),
@@ -225,7 +229,10 @@ pub fn insert_joints(mesh: &mut Mesh, specs: &[JointSpec], path: &Path) -> Resul
         .iter()
         .map(|p| key(p.edge_nodes[0], p.edge_nodes[1]))
         .collect();
-    let joint_nodes: BTreeSet<usize> = pending.iter().flat_map(|p| p.edge_nodes.iter().copied()).collect();
+    let joint_nodes: BTreeSet<usize> = pending
+        .iter()
+        .flat_map(|p| p.edge_nodes.iter().copied())
+        .collect();
     let mut cells_of: HashMap<usize, Vec<usize>> = HashMap::new();
     for (c, cell) in mesh.cells.iter().enumerate() {
         for &n in &cell.nodes {
@@ -376,7 +383,11 @@ pub fn insert_joints(mesh: &mut Mesh, specs: &[JointSpec], path: &Path) -> Resul
         };
         joint.bottom_bodies = bodies(joint.elements.iter().map(|e| e.bottom_cell).collect());
         joint.top_bodies = bodies(joint.elements.iter().map(|e| e.top_cell).collect());
-        let on_joint: BTreeSet<usize> = joint.elements.iter().flat_map(|e| e.bottom.iter().copied()).collect();
+        let on_joint: BTreeSet<usize> = joint
+            .elements
+            .iter()
+            .flat_map(|e| e.bottom.iter().copied())
+            .collect();
         joint.duplicated = duplicated
             .iter()
             .copied()

@@ -16,7 +16,7 @@
 //! | [`MeshError`] | every failure, naming file, line or entity |
 //!
 //! Pipeline: [`gmsh::mesh_geo`] (`.geo` -> `.msh`), [`read_msh`] (`.msh` ->
-//! [`Mesh`]), [`insert_joints`], [`validate`], [`Summary`].
+//! [`Mesh`]), [`insert_joints`], [`validate()`], [`Summary`].
 
 pub mod error;
 pub mod geometry;

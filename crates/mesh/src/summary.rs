@@ -116,8 +116,16 @@ impl Summary {
             elements: mesh.cells.len(),
             bodies,
             joints,
-            curves: mesh.curves.iter().map(|c| (c.name.clone(), c.edges.len())).collect(),
-            points: mesh.points.iter().map(|p| (p.name.clone(), p.nodes.len())).collect(),
+            curves: mesh
+                .curves
+                .iter()
+                .map(|c| (c.name.clone(), c.edges.len()))
+                .collect(),
+            points: mesh
+                .points
+                .iter()
+                .map(|p| (p.name.clone(), p.nodes.len()))
+                .collect(),
         }
     }
 }

@@ -38,7 +38,9 @@ pub fn validate(mesh: &mut Mesh, path: &Path) -> Result<Validation, MeshError> {
         message,
     };
     if mesh.cells.is_empty() {
-        return Err(invalid("no 2D elements in any physical surface (is a Physical Surface defined?)".into()));
+        return Err(invalid(
+            "no 2D elements in any physical surface (is a Physical Surface defined?)".into(),
+        ));
     }
     let mut lo = [f64::INFINITY; 2];
     let mut hi = [f64::NEG_INFINITY; 2];

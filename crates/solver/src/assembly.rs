@@ -88,11 +88,11 @@ impl Pattern {
     pub fn sym_matvec(&self, values: &[f64], x: &[f64], y: &mut [f64]) {
         y.fill(0.0);
         for col in 0..self.n {
-            for k in self.col_ptr[col]..self.col_ptr[col + 1] {
-                let row = self.row_idx[k];
-                y[row] += values[k] * x[col];
+            let range = self.col_ptr[col]..self.col_ptr[col + 1];
+            for (&row, &v) in self.row_idx[range.clone()].iter().zip(&values[range]) {
+                y[row] += v * x[col];
                 if row != col {
-                    y[col] += values[k] * x[row];
+                    y[col] += v * x[row];
                 }
             }
         }
@@ -140,7 +140,14 @@ pub(crate) fn for_each_element(
     for cell in &mesh.cells {
         s.coords.clear();
         s.coords.extend(cell.nodes.iter().map(|&n| mesh.nodes[n]));
-        solid_stiffness(cell.kind, &s.coords, &materials[cell.body], m, &mut s.solid, &mut s.ke);
+        solid_stiffness(
+            cell.kind,
+            &s.coords,
+            &materials[cell.body],
+            m,
+            &mut s.solid,
+            &mut s.ke,
+        );
         f(&cell.nodes, &s.ke);
     }
     for (joint, props) in mesh.joints.iter().zip(joints) {

@@ -78,7 +78,7 @@ pub struct DofMap {
 impl DofMap {
     /// Numbers the unknowns of `mesh`; `fixed[3 * node + c]` marks supports
     /// (zero displacement in every harmonic). Nodes at r = 0 exactly are
-    /// axis nodes ([`axijoint_mesh::validate`] snaps them).
+    /// axis nodes ([`axijoint_mesh::validate()`] snaps them).
     pub fn new(mesh: &Mesh, fixed: &[bool]) -> DofMap {
         let n = mesh.nodes.len();
         assert_eq!(fixed.len(), 3 * n, "one support flag per node DOF");

@@ -59,7 +59,10 @@ pub fn build_model(scene: &Scene, mesh: Mesh) -> Result<Model, SolverError> {
         .iter()
         .map(|j| {
             let config = &scene.joints[&j.name];
-            let kind = j.elements.first().map_or(axijoint_mesh::JointKind::Lin6, |e| e.kind);
+            let kind = j
+                .elements
+                .first()
+                .map_or(axijoint_mesh::JointKind::Lin6, |e| e.kind);
             JointModel {
                 springs: config.springs(),
                 rule: config.rule(kind),
@@ -155,7 +158,11 @@ pub struct LinearRun {
 
 /// Meshes, builds and solves a scene with its joints as linear springs.
 /// Harmonics without load are not factorized unless `all_factors`.
-pub fn solve_linear(scene: &Scene, keep_msh: Option<&Path>, all_factors: bool) -> Result<LinearRun, SolverError> {
+pub fn solve_linear(
+    scene: &Scene,
+    keep_msh: Option<&Path>,
+    all_factors: bool,
+) -> Result<LinearRun, SolverError> {
     let (mesh, _) = mesh_scene(scene, keep_msh)?;
     let m_max = scene.harmonics();
     let loads = assemble_loads(scene, &mesh, m_max)?;
@@ -216,7 +223,12 @@ pub fn solve_linear(scene: &Scene, keep_msh: Option<&Path>, all_factors: bool) -
 
 /// Reactions `K u - f` at the supported DOFs, per support (a DOF fixed by
 /// several supports counts for the first), as Cartesian resultants.
-pub fn reactions(scene: &Scene, model: &Model, loads: &[HarmonicLoads], u: &Displacements) -> Vec<SupportReaction> {
+pub fn reactions(
+    scene: &Scene,
+    model: &Model,
+    loads: &[HarmonicLoads],
+    u: &Displacements,
+) -> Vec<SupportReaction> {
     let mesh = &model.mesh;
     let n = mesh.nodes.len();
     // Residual per harmonic and family, supported DOFs only.
@@ -262,11 +274,9 @@ pub fn reactions(scene: &Scene, model: &Model, loads: &[HarmonicLoads], u: &Disp
                 .iter()
                 .map(|r| {
                     let mut h = HarmonicLoads::zeros(r.m, n);
-                    for dof in 0..3 * n {
-                        if mine[dof] {
-                            h.symmetric[dof] = r.symmetric[dof];
-                            h.antisymmetric[dof] = r.antisymmetric[dof];
-                        }
+                    for (dof, _) in mine.iter().enumerate().filter(|(_, &m)| m) {
+                        h.symmetric[dof] = r.symmetric[dof];
+                        h.antisymmetric[dof] = r.antisymmetric[dof];
                     }
                     h
                 })
@@ -387,10 +397,14 @@ pub fn solution_header(scene: &Scene, run: &LinearRun) -> crate::results::Soluti
 /// default the paper's M + 1 over [0, pi] when the loads are symmetric about
 /// theta = 0 (no antisymmetric family, no torsion), else the full-turn
 /// equivalent (2M equispaced sections).
-pub fn scene_sections(scene: &Scene, loads: &[HarmonicLoads]) -> Result<crate::fourier::Sections, SolverError> {
+pub fn scene_sections(
+    scene: &Scene,
+    loads: &[HarmonicLoads],
+) -> Result<crate::fourier::Sections, SolverError> {
     use crate::fourier::Sections;
     let symmetric_only = loads.iter().all(|h| {
-        h.antisymmetric.iter().all(|&v| v == 0.0) && (h.m > 0 || h.symmetric.iter().skip(2).step_by(3).all(|&v| v == 0.0))
+        h.antisymmetric.iter().all(|&v| v == 0.0)
+            && (h.m > 0 || h.symmetric.iter().skip(2).step_by(3).all(|&v| v == 0.0))
     });
     let m = scene.harmonics();
     let invalid = |message: String| crate::scene::SceneError::Invalid {
@@ -435,7 +449,10 @@ pub fn solve_scene(
     let nonlinear = scene.joints.values().any(|j| j.law != JointLaw::Linear);
     let mut linear = solve_linear(scene, keep_msh, nonlinear)?;
     if !nonlinear || linear.model.mesh.joints.is_empty() {
-        return Ok(Run { linear, outcome: None });
+        return Ok(Run {
+            linear,
+            outcome: None,
+        });
     }
     let laws: Vec<JointLaw> = linear
         .model

@@ -134,7 +134,10 @@ fn check_increasing(theta: &[f64], max: f64) -> Result<(), String> {
     if theta.is_empty() {
         return Err("no sections".into());
     }
-    if theta.iter().any(|t| !t.is_finite() || *t < 0.0 || *t > max + 1e-12) {
+    if theta
+        .iter()
+        .any(|t| !t.is_finite() || *t < 0.0 || *t > max + 1e-12)
+    {
         return Err(format!("sections must lie in [0, {:.6}] rad", max));
     }
     if theta.windows(2).any(|w| w[1] <= w[0]) {
@@ -228,7 +231,10 @@ mod tests {
                                 _ if m == k => c(m),
                                 _ => 0.0,
                             };
-                            assert!((sum - expect).abs() < 1e-12, "{f:?} m {m} k {k} comp {comp}: {sum}");
+                            assert!(
+                                (sum - expect).abs() < 1e-12,
+                                "{f:?} m {m} k {k} comp {comp}: {sum}"
+                            );
                         }
                     }
                 }
@@ -254,9 +260,18 @@ mod tests {
         let synth: Vec<f64> = s
             .theta
             .iter()
-            .map(|&t| (0..5u32).map(|m| basis(m, Family::Symmetric, t).0 * a[m as usize]).sum())
+            .map(|&t| {
+                (0..5u32)
+                    .map(|m| basis(m, Family::Symmetric, t).0 * a[m as usize])
+                    .sum()
+            })
             .collect();
-        let lhs: f64 = synth.iter().zip(&g).zip(&s.weight).map(|((x, y), w)| x * y * w).sum();
+        let lhs: f64 = synth
+            .iter()
+            .zip(&g)
+            .zip(&s.weight)
+            .map(|((x, y), w)| x * y * w)
+            .sum();
         let rhs: f64 = (0..5u32)
             .map(|m| {
                 let fm: f64 = s

@@ -142,7 +142,9 @@ impl IterationError {
     /// The history up to the stop, if any.
     pub fn history(&self) -> &[IterationRecord] {
         match self {
-            IterationError::NoEquilibrium { history, .. } | IterationError::NotConverged { history, .. } => history,
+            IterationError::NoEquilibrium { history, .. } | IterationError::NotConverged { history, .. } => {
+                history
+            }
             IterationError::Setup(_) => &[],
         }
     }
@@ -171,7 +173,10 @@ impl Setup<'_> {
     fn synthesize(&self, u: &Displacements, s: usize, out: &mut [f64]) {
         out.fill(0.0);
         for (h, hd) in u.harmonics.iter().enumerate() {
-            for (family, amp) in [(Family::Symmetric, &hd.symmetric), (Family::Antisymmetric, &hd.antisymmetric)] {
+            for (family, amp) in [
+                (Family::Symmetric, &hd.symmetric),
+                (Family::Antisymmetric, &hd.antisymmetric),
+            ] {
                 let (a, b) = self.phi(s, h, family);
                 if a == 0.0 && b == 0.0 {
                     continue;
@@ -287,7 +292,10 @@ pub fn stress_transfer(
     for (j, &k) in joint_nodes.iter().enumerate() {
         where_[k] = j;
     }
-    let local = points.iter().map(|p| p.nodes.iter().map(|&k| where_[k]).collect()).collect();
+    let local = points
+        .iter()
+        .map(|p| p.nodes.iter().map(|&k| where_[k]).collect())
+        .collect();
     let n_h = loads.len();
     let mut phi = Vec::with_capacity(sections.len() * n_h * 2);
     for &t in &sections.theta {
@@ -331,7 +339,8 @@ pub fn stress_transfer(
             .zip(&released)
             .zip(&factor_of)
             .map(|((f, gm), factor)| {
-                let add = |a: &[f64], b: &[f64]| -> Vec<f64> { a.iter().zip(b).map(|(x, y)| x + y).collect() };
+                let add =
+                    |a: &[f64], b: &[f64]| -> Vec<f64> { a.iter().zip(b).map(|(x, y)| x + y).collect() };
                 let sym = add(&f.symmetric, &gm.symmetric);
                 let anti_needed = f.m > 0 && !sections.half;
                 if anti_needed {
@@ -399,8 +408,19 @@ pub fn stress_transfer(
         };
         progress(&record);
         history.push(record);
-        if !ratio.is_finite() || u.harmonics.iter().any(|h| h.symmetric.iter().any(|v| !v.is_finite())) {
-            return Err(no_equilibrium(&setup, &g, &g_prev, "the solution is not finite", record, history));
+        if !ratio.is_finite()
+            || u.harmonics
+                .iter()
+                .any(|h| h.symmetric.iter().any(|v| !v.is_finite()))
+        {
+            return Err(no_equilibrium(
+                &setup,
+                &g,
+                &g_prev,
+                "the solution is not finite",
+                record,
+                history,
+            ));
         }
         if nothing_released || (it > 1 && ratio < settings.epsilon) {
             return Ok(Outcome {
@@ -494,7 +514,10 @@ fn no_equilibrium(
         .max_by(|a, b| a.1.total_cmp(b.1))
         .map_or(0, |(j, _)| j);
     IterationError::NoEquilibrium {
-        joint: mesh.joints.get(worst).map_or_else(|| "?".into(), |j| j.name.clone()),
+        joint: mesh
+            .joints
+            .get(worst)
+            .map_or_else(|| "?".into(), |j| j.name.clone()),
         reason: reason.to_string(),
         open: last.open,
         slip: last.slip,

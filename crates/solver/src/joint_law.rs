@@ -41,7 +41,12 @@ impl JointState {
 
 /// The admissible traction for relative displacement `d` (local axes), and
 /// the state. `broken` remembers that the tensile strength was exceeded.
-pub fn admissible(law: &JointLaw, k: &JointSprings, d: [f64; 3], broken: &mut bool) -> ([f64; 3], JointState) {
+pub fn admissible(
+    law: &JointLaw,
+    k: &JointSprings,
+    d: [f64; 3],
+    broken: &mut bool,
+) -> ([f64; 3], JointState) {
     let p = k.traction(d);
     let mc = match law {
         JointLaw::Linear => return (p, JointState::Stick),
@@ -66,7 +71,11 @@ pub fn admissible(law: &JointLaw, k: &JointSprings, d: [f64; 3], broken: &mut bo
         ShearCheck::Components => {
             let clamp = |t: f64| t.clamp(-tau_y, tau_y);
             let q = [clamp(p[0]), sigma, clamp(p[2])];
-            let state = if q == p { JointState::Stick } else { JointState::Slip };
+            let state = if q == p {
+                JointState::Stick
+            } else {
+                JointState::Slip
+            };
             (q, state)
         }
     }
@@ -94,7 +103,12 @@ mod tests {
     #[test]
     fn open_in_tension_transmits_nothing() {
         let mut b = false;
-        let (p, s) = admissible(&law(0.5, 30.0, 0.0, ShearCheck::Resultant), &K, [0.01, 1e-9, 0.02], &mut b);
+        let (p, s) = admissible(
+            &law(0.5, 30.0, 0.0, ShearCheck::Resultant),
+            &K,
+            [0.01, 1e-9, 0.02],
+            &mut b,
+        );
         assert_eq!((p, s), ([0.0; 3], JointState::Open));
         assert!(b);
     }
@@ -110,7 +124,10 @@ mod tests {
         assert_eq!(admissible(&l, &K, [0.0, 0.01, 0.0], &mut b).1, JointState::Open);
         assert_eq!(admissible(&l, &K, [0.0, 0.001, 0.0], &mut b).1, JointState::Open);
         // Compression closes it again.
-        assert_eq!(admissible(&l, &K, [0.0, -0.001, 0.0], &mut b).1, JointState::Stick);
+        assert_eq!(
+            admissible(&l, &K, [0.0, -0.001, 0.0], &mut b).1,
+            JointState::Stick
+        );
     }
 
     #[test]
@@ -118,13 +135,26 @@ mod tests {
         // sigma = -20 * 0.05 = -1, tau_y = 0.5 + tan(30 deg) = 1.0773503.
         let tau_y = 0.5 + 30f64.to_radians().tan();
         let mut b = false;
-        let (p, s) = admissible(&law(0.5, 30.0, 0.0, ShearCheck::Resultant), &K, [0.3, -0.05, 0.4], &mut b);
+        let (p, s) = admissible(
+            &law(0.5, 30.0, 0.0, ShearCheck::Resultant),
+            &K,
+            [0.3, -0.05, 0.4],
+            &mut b,
+        );
         assert_eq!(s, JointState::Slip);
         assert!((p[0].hypot(p[2]) - tau_y).abs() < 1e-14);
-        assert!((p[0] / p[2] - 3.0 / 2.0).abs() < 1e-14, "direction of (10 * 0.3, 5 * 0.4)");
+        assert!(
+            (p[0] / p[2] - 3.0 / 2.0).abs() < 1e-14,
+            "direction of (10 * 0.3, 5 * 0.4)"
+        );
         assert_eq!(p[1], -1.0);
         // Below the strength: stick, unchanged.
-        let (q, s) = admissible(&law(0.5, 30.0, 0.0, ShearCheck::Resultant), &K, [0.05, -0.05, 0.05], &mut b);
+        let (q, s) = admissible(
+            &law(0.5, 30.0, 0.0, ShearCheck::Resultant),
+            &K,
+            [0.05, -0.05, 0.05],
+            &mut b,
+        );
         assert_eq!((q, s), ([0.5, -1.0, 0.25], JointState::Stick));
     }
 
@@ -132,10 +162,20 @@ mod tests {
     fn component_check_clamps_each() {
         let mut b = false;
         // tau_y = 0.5 (phi = 0); trial (3, -1, 0.25): xi clamps, theta sticks.
-        let (p, s) = admissible(&law(0.5, 0.0, 0.0, ShearCheck::Components), &K, [0.3, -0.05, 0.05], &mut b);
+        let (p, s) = admissible(
+            &law(0.5, 0.0, 0.0, ShearCheck::Components),
+            &K,
+            [0.3, -0.05, 0.05],
+            &mut b,
+        );
         assert_eq!((p, s), ([0.5, -1.0, 0.25], JointState::Slip));
         // The resultant check is stricter: |(0.5, 0.25)| > 0.5 would slip.
-        let (_, s) = admissible(&law(0.5, 0.0, 0.0, ShearCheck::Resultant), &K, [0.05, -0.05, 0.05], &mut b);
+        let (_, s) = admissible(
+            &law(0.5, 0.0, 0.0, ShearCheck::Resultant),
+            &K,
+            [0.05, -0.05, 0.05],
+            &mut b,
+        );
         assert_eq!(s, JointState::Slip);
     }
 

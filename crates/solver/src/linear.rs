@@ -58,7 +58,12 @@ pub struct Model {
 
 impl Model {
     /// Numbers the unknowns, builds the pattern and the symbolic Cholesky.
-    pub fn new(mesh: Mesh, materials: Vec<Elastic>, joints: Vec<JointModel>, fixed: Vec<bool>) -> Result<Model, SolveError> {
+    pub fn new(
+        mesh: Mesh,
+        materials: Vec<Elastic>,
+        joints: Vec<JointModel>,
+        fixed: Vec<bool>,
+    ) -> Result<Model, SolveError> {
         if materials.len() != mesh.bodies.len() {
             return Err(SolveError::Input(format!(
                 "{} materials for {} bodies",
@@ -75,7 +80,9 @@ impl Model {
         }
         let dofs = DofMap::new(&mesh, &fixed);
         if dofs.n_eq == 0 {
-            return Err(SolveError::Input("every degree of freedom is supported: nothing to solve".into()));
+            return Err(SolveError::Input(
+                "every degree of freedom is supported: nothing to solve".into(),
+            ));
         }
         let joint_nodes: Vec<Vec<usize>> = mesh
             .joints
@@ -118,9 +125,14 @@ impl Model {
         let pinned = self.dofs.pinned(m);
         let mut values = vec![0.0; self.pattern.nnz()];
         let mut scratch = ElementScratch::new();
-        for_each_element(&self.mesh, &self.materials, &self.joints, m, &mut scratch, |nodes, ke| {
-            scatter(&self.pattern, &self.dofs, &pinned, nodes, ke, &mut values)
-        });
+        for_each_element(
+            &self.mesh,
+            &self.materials,
+            &self.joints,
+            m,
+            &mut scratch,
+            |nodes, ke| scatter(&self.pattern, &self.dofs, &pinned, nodes, ke, &mut values),
+        );
         // Identity rows (scaled) for the pinned axis variables.
         let free_diag: Vec<f64> = (0..self.pattern.n)
             .filter(|&e| !pinned[e])
@@ -149,13 +161,18 @@ impl Model {
             hint: self.unsupported_hint(),
         };
         let mat = SparseColMatRef::new(pattern_ref(&self.pattern), &values);
-        let llt = Llt::try_new_with_symbolic(self.symbolic.clone(), mat, Side::Upper).map_err(|e| match e {
-            faer::sparse::linalg::LltError::Numeric(_) => singular("a non-positive pivot in the Cholesky factorization".into()),
-            faer::sparse::linalg::LltError::Generic(g) => SolveError::Factorization(format!("{g:?}")),
-        })?;
+        let llt =
+            Llt::try_new_with_symbolic(self.symbolic.clone(), mat, Side::Upper).map_err(|e| match e {
+                faer::sparse::linalg::LltError::Numeric(_) => {
+                    singular("a non-positive pivot in the Cholesky factorization".into())
+                }
+                faer::sparse::linalg::LltError::Generic(g) => SolveError::Factorization(format!("{g:?}")),
+            })?;
         // Probe: x0 pseudo-random, b = K x0, solve, compare.
         let n = self.pattern.n;
-        let x0: Vec<f64> = (0..n).map(|i| ((i as f64 + 1.0) * 0.618_033_988_75).fract() - 0.5).collect();
+        let x0: Vec<f64> = (0..n)
+            .map(|i| ((i as f64 + 1.0) * 0.618_033_988_75).fract() - 0.5)
+            .collect();
         let mut b = vec![0.0; n];
         self.pattern.sym_matvec(&values, &x0, &mut b);
         let mut rhs = Mat::from_fn(n, 1, |i, _| b[i]);
@@ -206,14 +223,21 @@ impl Model {
         let mut out = vec![0.0; u.len()];
         let mut scratch = ElementScratch::new();
         let mut ue = Vec::with_capacity(54);
-        for_each_element(&self.mesh, &self.materials, &self.joints, m, &mut scratch, |nodes, ke| {
-            ue.clear();
-            ue.extend(nodes.iter().flat_map(|&n| u[3 * n..3 * n + 3].iter().copied()));
-            for (a, row) in ke.row_iter().enumerate() {
-                let fa: f64 = row.iter().zip(&ue).map(|(k, x)| k * x).sum();
-                out[3 * nodes[a / 3] + a % 3] += fa;
-            }
-        });
+        for_each_element(
+            &self.mesh,
+            &self.materials,
+            &self.joints,
+            m,
+            &mut scratch,
+            |nodes, ke| {
+                ue.clear();
+                ue.extend(nodes.iter().flat_map(|&n| u[3 * n..3 * n + 3].iter().copied()));
+                for (a, row) in ke.row_iter().enumerate() {
+                    let fa: f64 = row.iter().zip(&ue).map(|(k, x)| k * x).sum();
+                    out[3 * nodes[a / 3] + a % 3] += fa;
+                }
+            },
+        );
         out
     }
 

@@ -111,7 +111,6 @@ impl Scene {
 
     /// Parses scene text; `path` is the file it stands for (for messages and
     /// to resolve `mesh.file`).
-    #[allow(clippy::should_implement_trait)]
     pub fn from_str(text: &str, path: impl AsRef<Path>) -> Result<Scene, SceneError> {
         let path = path.as_ref();
         let parse_error = |key: String, e: serde_json::Error| SceneError::Parse {

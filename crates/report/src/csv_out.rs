@@ -1,0 +1,126 @@
+//! CSV files: cut profiles, joint fields, convergence histories
+//! (columns documented in `docs/outputs.md`).
+
+use crate::cuts::CutRow;
+use crate::error::ReportError;
+use crate::field::STRESS_NAMES;
+use axijoint_solver::iteration::IterationRecord;
+use axijoint_solver::results::JointFieldFile;
+use std::path::Path;
+
+/// Writes rows through a temporary file renamed into place, refusing
+/// non-finite numbers.
+fn write_atomic(path: &Path, header: &[String], rows: &[Vec<String>], numbers: &[f64]) -> Result<(), ReportError> {
+    if let Some(i) = numbers.iter().position(|v| !v.is_finite()) {
+        return Err(ReportError::NotFinite {
+            path: path.to_path_buf(),
+            what: format!("value {i}"),
+        });
+    }
+    let tmp = path.with_extension("csv.partial");
+    {
+        let mut w = csv::Writer::from_path(&tmp).map_err(|e| ReportError::write(&tmp, e))?;
+        w.write_record(header).map_err(|e| ReportError::write(&tmp, e))?;
+        for r in rows {
+            w.write_record(r).map_err(|e| ReportError::write(&tmp, e))?;
+        }
+        w.flush().map_err(|e| ReportError::write(&tmp, e))?;
+    }
+    std::fs::rename(&tmp, path).map_err(|e| ReportError::write(path, e))
+}
+
+fn num(v: f64) -> String {
+    format!("{v:.9e}")
+}
+
+/// A cut profile at one theta: `s, r, z, theta, body, sigma_r ... tau_ztheta`.
+pub fn write_cut(path: &Path, rows: &[CutRow], length: &str, stress: &str) -> Result<(), ReportError> {
+    let mut header = vec![
+        format!("s [{length}]"),
+        format!("r [{length}]"),
+        format!("z [{length}]"),
+        "theta [deg]".to_string(),
+        "body".to_string(),
+    ];
+    header.extend(STRESS_NAMES.iter().map(|n| format!("{n} [{stress}]")));
+    let numbers: Vec<f64> = rows
+        .iter()
+        .flat_map(|r| [r.s, r.r, r.z, r.theta_deg].into_iter().chain(r.stress))
+        .collect();
+    let body: Vec<Vec<String>> = rows
+        .iter()
+        .map(|r| {
+            let mut v = vec![num(r.s), num(r.r), num(r.z), format!("{}", r.theta_deg), r.body.clone()];
+            v.extend(r.stress.iter().map(|&x| num(x)));
+            v
+        })
+        .collect();
+    write_atomic(path, &header, &body, &numbers)
+}
+
+/// One joint's field at every section, ordered by section then position.
+pub fn write_joint(
+    path: &Path,
+    field: &JointFieldFile,
+    joint: &str,
+    length: &str,
+    stress: &str,
+) -> Result<(), ReportError> {
+    let header: Vec<String> = [
+        format!("s [{length}]"),
+        format!("r [{length}]"),
+        format!("z [{length}]"),
+        "theta [deg]".into(),
+        format!("sigma [{stress}]"),
+        format!("tau_xi [{stress}]"),
+        format!("tau_theta [{stress}]"),
+        format!("d_xi [{length}]"),
+        format!("d_eta [{length}]"),
+        format!("d_theta [{length}]"),
+        format!("opening [{length}]"),
+        format!("slip [{length}]"),
+        "state".into(),
+    ]
+    .to_vec();
+    let mut order: Vec<usize> = (0..field.points.len()).filter(|&i| field.points[i].joint == joint).collect();
+    order.sort_by(|&a, &b| field.points[a].s.total_cmp(&field.points[b].s));
+    let mut rows = Vec::new();
+    let mut numbers = Vec::new();
+    for (s, theta) in field.sections_deg.iter().enumerate() {
+        for &i in &order {
+            let (pt, v) = (&field.points[i], &field.values[s][i]);
+            let vals = [
+                pt.s, pt.r, pt.z, *theta, v.p[1], v.p[0], v.p[2], v.d[0], v.d[1], v.d[2], v.opening, v.slip,
+            ];
+            numbers.extend_from_slice(&vals);
+            let mut row: Vec<String> = vals.iter().map(|&x| num(x)).collect();
+            row[3] = format!("{theta}");
+            row.push(v.state.name().to_string());
+            rows.push(row);
+        }
+    }
+    write_atomic(path, &header, &rows, &numbers)
+}
+
+/// The iteration history.
+pub fn write_convergence(path: &Path, history: &[IterationRecord]) -> Result<(), ReportError> {
+    let header: Vec<String> = ["iteration", "residual_ratio", "open", "slip", "stick", "seconds"]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+    let numbers: Vec<f64> = history.iter().flat_map(|h| [h.ratio, h.seconds]).collect();
+    let rows = history
+        .iter()
+        .map(|h| {
+            vec![
+                h.iteration.to_string(),
+                num(h.ratio),
+                h.open.to_string(),
+                h.slip.to_string(),
+                h.stick.to_string(),
+                num(h.seconds),
+            ]
+        })
+        .collect::<Vec<_>>();
+    write_atomic(path, &header, &rows, &numbers)
+}

@@ -1,0 +1,193 @@
+//! The solution as a field: locate points in the meridional mesh and
+//! synthesize displacements and stresses at any theta, body by body.
+
+use axijoint_mesh::{geometry::jacobian, CellKind, Mesh};
+use axijoint_solver::driver::Displacements;
+use axijoint_solver::elements::stress_at;
+use axijoint_solver::material::Elastic;
+use rstar::{RTree, RTreeObject, AABB};
+
+/// A cell's bounding box in the R-tree.
+struct CellBox {
+    cell: usize,
+    envelope: AABB<[f64; 2]>,
+}
+
+impl RTreeObject for CellBox {
+    type Envelope = AABB<[f64; 2]>;
+    fn envelope(&self) -> Self::Envelope {
+        self.envelope
+    }
+}
+
+/// A point found in a cell.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Location {
+    /// Cell index.
+    pub cell: usize,
+    /// Reference coordinates in the cell.
+    pub xi: [f64; 2],
+}
+
+/// Spatial index of the cells (R-tree of bounding boxes, then Newton on the
+/// element map): no linear scan per point.
+pub struct Locator {
+    tree: RTree<CellBox>,
+    tol: f64,
+}
+
+impl Locator {
+    /// Indexes the cells of `mesh`.
+    pub fn new(mesh: &Mesh) -> Locator {
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for p in &mesh.nodes {
+            for a in 0..2 {
+                lo[a] = lo[a].min(p[a]);
+                hi[a] = hi[a].max(p[a]);
+            }
+        }
+        let tol = 1e-9 * (hi[0] - lo[0]).max(hi[1] - lo[1]).max(f64::MIN_POSITIVE);
+        let boxes = mesh
+            .cells
+            .iter()
+            .enumerate()
+            .map(|(c, cell)| {
+                let (mut a, mut b) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+                for &n in &cell.nodes {
+                    for k in 0..2 {
+                        a[k] = a[k].min(mesh.nodes[n][k] - tol);
+                        b[k] = b[k].max(mesh.nodes[n][k] + tol);
+                    }
+                }
+                CellBox {
+                    cell: c,
+                    envelope: AABB::from_corners(a, b),
+                }
+            })
+            .collect();
+        Locator {
+            tree: RTree::bulk_load(boxes),
+            tol,
+        }
+    }
+
+    /// Every cell containing `p` (several on element edges), in cell order.
+    pub fn locate_all(&self, mesh: &Mesh, p: [f64; 2]) -> Vec<Location> {
+        let mut found: Vec<Location> = self
+            .tree
+            .locate_in_envelope_intersecting(AABB::from_point(p))
+            .filter_map(|b| inverse_map(mesh, b.cell, p, self.tol).map(|xi| Location { cell: b.cell, xi }))
+            .collect();
+        found.sort_by_key(|l| l.cell);
+        found
+    }
+}
+
+/// Reference coordinates of `p` in `cell`, if inside (Newton on x(xi)).
+pub fn inverse_map(mesh: &Mesh, cell: usize, p: [f64; 2], tol: f64) -> Option<[f64; 2]> {
+    let c = &mesh.cells[cell];
+    let coords: Vec<[f64; 2]> = c.nodes.iter().map(|&n| mesh.nodes[n]).collect();
+    let nn = c.kind.n_nodes();
+    let (mut n, mut dn) = ([0.0; 9], [[0.0; 2]; 9]);
+    let mut xi = c.kind.ref_centre();
+    for _ in 0..30 {
+        c.kind.eval_n(xi, &mut n[..nn]);
+        c.kind.eval_dn(xi, &mut dn[..nn]);
+        let mut x = [0.0; 2];
+        for i in 0..nn {
+            x[0] += n[i] * coords[i][0];
+            x[1] += n[i] * coords[i][1];
+        }
+        let (j, det) = jacobian(c.kind, &coords, &dn[..nn]);
+        if det == 0.0 || !det.is_finite() {
+            return None;
+        }
+        let (rx, ry) = (p[0] - x[0], p[1] - x[1]);
+        // j = [[dr/dxi, dr/deta], [dz/dxi, dz/deta]]
+        let dxi = (j[1][1] * rx - j[0][1] * ry) / det;
+        let deta = (-j[1][0] * rx + j[0][0] * ry) / det;
+        xi = [xi[0] + dxi, xi[1] + deta];
+        if dxi.abs() + deta.abs() < 1e-13 {
+            break;
+        }
+        if xi[0].abs() > 10.0 || xi[1].abs() > 10.0 {
+            return None;
+        }
+    }
+    // Inside, with a tolerance scaled from length to the reference cell.
+    let h = coords.iter().fold(0.0f64, |a, q| a.max((q[0] - coords[0][0]).hypot(q[1] - coords[0][1])));
+    let t = 1e-7_f64.max(4.0 * tol / h.max(f64::MIN_POSITIVE));
+    let inside = if c.kind.n_corners() == 3 {
+        xi[0] >= -t && xi[1] >= -t && xi[0] + xi[1] <= 1.0 + t
+    } else {
+        xi[0].abs() <= 1.0 + t && xi[1].abs() <= 1.0 + t
+    };
+    inside.then_some(xi)
+}
+
+/// Stress components in the order of the outputs.
+pub const STRESS_NAMES: [&str; 6] = ["sigma_r", "sigma_z", "sigma_theta", "tau_rz", "tau_rtheta", "tau_ztheta"];
+
+/// Displacements and stresses of a solution.
+pub struct Field<'a> {
+    /// The mesh (joints inserted).
+    pub mesh: &'a Mesh,
+    /// Material per body.
+    pub materials: &'a [Elastic],
+    /// Amplitudes.
+    pub u: &'a Displacements,
+}
+
+impl Field<'_> {
+    /// `(u_r, u_z, u_theta)` at node `n`, angle `theta`.
+    pub fn displacement(&self, n: usize, theta: f64) -> [f64; 3] {
+        self.u.at(n, theta)
+    }
+
+    /// Cartesian `(ux, uy, uz)` at node `n`, angle `theta`.
+    pub fn displacement_xyz(&self, n: usize, theta: f64) -> [f64; 3] {
+        let [ur, uz, ut] = self.u.at(n, theta);
+        let (s, c) = theta.sin_cos();
+        [ur * c - ut * s, ur * s + ut * c, uz]
+    }
+
+    /// Stress `(sigma_r, sigma_z, sigma_theta, tau_rz, tau_rtheta,
+    /// tau_ztheta)` at reference point `xi` of `cell`, angle `theta`, from
+    /// the cell's own field (never averaged with a neighbour).
+    pub fn stress(&self, cell: usize, xi: [f64; 2], theta: f64) -> [f64; 6] {
+        let c = &self.mesh.cells[cell];
+        let coords: Vec<[f64; 2]> = c.nodes.iter().map(|&n| self.mesh.nodes[n]).collect();
+        let mat = &self.materials[c.body];
+        let mut ue = vec![0.0; 3 * c.nodes.len()];
+        let mut out = [0.0; 6];
+        for h in &self.u.harmonics {
+            let (sin, cos) = (f64::from(h.m) * theta).sin_cos();
+            for (amp, in_plane, shear_theta) in [(&h.symmetric, cos, sin), (&h.antisymmetric, sin, -cos)] {
+                let (a, b) = if h.m == 0 { (1.0, 1.0) } else { (in_plane, shear_theta) };
+                if (a == 0.0 && b == 0.0) || (h.m == 0 && std::ptr::eq(amp, &h.antisymmetric)) {
+                    continue;
+                }
+                for (i, &n) in c.nodes.iter().enumerate() {
+                    ue[3 * i..3 * i + 3].copy_from_slice(&amp[3 * n..3 * n + 3]);
+                }
+                if ue.iter().all(|&v| v == 0.0) {
+                    continue;
+                }
+                let s = stress_at(c.kind, &coords, mat, h.m, &ue, xi);
+                for k in 0..4 {
+                    out[k] += a * s[k];
+                }
+                out[4] += b * s[4];
+                out[5] += b * s[5];
+            }
+        }
+        out
+    }
+
+    /// Stress at the nodes of each cell, `(cell, local node) -> stress`:
+    /// the element's own values at its nodes.
+    pub fn cell_node_stress(&self, cell: usize, theta: f64) -> Vec<[f64; 6]> {
+        let kind: CellKind = self.mesh.cells[cell].kind;
+        kind.ref_coords().iter().map(|&xi| self.stress(cell, xi, theta)).collect()
+    }
+}
