@@ -16,10 +16,16 @@
 // the physical point "origin" (names as in cylinder.geo).
 //
 // Parameters (gmsh -setnumber): a, hole, L, size, order (1|2), quads (0|1),
-// serendipity (0|1), transfinite (0|1).
+// serendipity (0|1), transfinite (0|1), grading (>= 1, transfinite only).
 // transfinite = 1: Round((a - hole) / size) by Round(L / size) cells, quads,
 // or each quad cut along the same diagonal direction into two triangles;
 // halving `size` nests the meshes, so convergence rates come out clean.
+// grading: ratio of the last to the first cell width along the bottom
+// (cells widen with r) and along the top (cells narrow with r); 1 gives
+// rectangles, > 1 trapezoids (not parallelograms) on the smooth map
+// r(s) = hole + (a - hole) (g^s - 1) / (g - 1) of a uniform grid, so that the
+// cells stay distorted under refinement: bilinear (Q4) and serendipity (Q8)
+// fields are then no longer exact.
 // transfinite = 0: gmsh's unstructured mesher with target size `size`.
 If (!Exists(a)) a = 1.0; EndIf
 If (!Exists(hole)) hole = 0.5; EndIf
@@ -29,6 +35,7 @@ If (!Exists(order)) order = 2; EndIf
 If (!Exists(quads)) quads = 1; EndIf
 If (!Exists(serendipity)) serendipity = 0; EndIf
 If (!Exists(transfinite)) transfinite = 1; EndIf
+If (!Exists(grading)) grading = 1; EndIf
 
 Point(1) = {hole, 0, 0, size};
 Point(2) = {a, 0, 0, size};
@@ -46,7 +53,9 @@ If (transfinite)
   nz = Round(L / size);
   If (nr < 1) nr = 1; EndIf
   If (nz < 1) nz = 1; EndIf
-  Transfinite Curve {1, 3} = nr + 1;
+  progression = 1;
+  If (nr > 1) progression = grading^(1 / (nr - 1)); EndIf
+  Transfinite Curve {1, 3} = nr + 1 Using Progression progression;
   Transfinite Curve {2, 4} = nz + 1;
   Transfinite Surface {1} = {1, 2, 3, 4};
 EndIf

@@ -87,22 +87,19 @@ pub fn default_scene() -> Result<PathBuf> {
 /// Solves, writes the solution folder, prints a summary; returns the header.
 pub fn solve_and_write(scene_path: &Path, common: &CommonArgs) -> Result<(Scene, PathBuf, SolutionHeader)> {
     let scene = load_scene(scene_path, common)?;
-    let out = common
-        .output
-        .clone()
-        .unwrap_or_else(|| default_output(scene_path));
-    let tmp = tempfile::tempdir().context("creating a temporary folder")?;
-    let is_geo = scene
-        .mesh_path()
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("geo"));
-    let msh = if is_geo {
-        tmp.path().join("mesh.msh")
-    } else {
-        scene.mesh_path()
-    };
+    let out = common.output.clone().unwrap_or_else(|| default_output(scene_path));
+    let header = solve_to(&scene, &out, common.quiet)?;
+    print_summary(scene_path, &scene, &header, &out);
+    Ok((scene, out, header))
+}
 
-    let bar = if common.quiet {
+/// Solves `scene` into the solution folder `out`.
+pub fn solve_to(scene: &Scene, out: &Path, quiet: bool) -> Result<SolutionHeader> {
+    let tmp = tempfile::tempdir().context("creating a temporary folder")?;
+    let is_geo = scene.mesh_path().extension().is_some_and(|e| e.eq_ignore_ascii_case("geo"));
+    let msh = if is_geo { tmp.path().join("mesh.msh") } else { scene.mesh_path() };
+
+    let bar = if quiet {
         ProgressBar::hidden()
     } else {
         let b = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
@@ -111,7 +108,7 @@ pub fn solve_and_write(scene_path: &Path, common: &CommonArgs) -> Result<(Scene,
         b.set_message("meshing and factorizing");
         b
     };
-    let result = solve_scene(&scene, Some(&msh), |r: &IterationRecord| {
+    let result = solve_scene(scene, Some(&msh), |r: &IterationRecord| {
         bar.set_message(format!(
             "iteration {:>4}  residual ratio {:.3e}  open {}  slip {}",
             r.iteration, r.ratio, r.open, r.slip
@@ -119,7 +116,7 @@ pub fn solve_and_write(scene_path: &Path, common: &CommonArgs) -> Result<(Scene,
     });
     bar.finish_and_clear();
     let run: Run = result?;
-    let mut header = solution_header(&scene, &run.linear);
+    let mut header = solution_header(scene, &run.linear);
     if let Some(outcome) = &run.outcome {
         header.extra = serde_json::json!({
             "iterations": outcome.history.len(),
@@ -131,10 +128,12 @@ pub fn solve_and_write(scene_path: &Path, common: &CommonArgs) -> Result<(Scene,
         let springs: Vec<_> = run.linear.model.joints.iter().map(|j| j.springs).collect();
         JointFieldFile::new(&run.linear.model.mesh, &springs, &o.field)
     });
-    write_solution(&out, &header, &run.linear.displacements, &msh, joints.as_ref())?;
-    print_summary(scene_path, &scene, &header, &out);
-    Ok((scene, out, header))
+    write_solution(out, &header, &run.linear.displacements, &msh, joints.as_ref())?;
+    Ok(header)
 }
+
+/// The folder of the comparison run without joints, inside a solution folder.
+pub const WITHOUT_JOINTS: &str = "without_joints";
 
 fn print_summary(path: &Path, scene: &Scene, header: &SolutionHeader, out: &Path) {
     println!("{}: {}", path.display(), scene.title);
@@ -194,6 +193,15 @@ pub fn run_run(args: &RunArgs) -> Result<()> {
         Some(s) => s.clone(),
         None => default_scene()?,
     };
-    let (_, out, _) = solve_and_write(&scene, &args.common)?;
+    let (scene, out, _) = solve_and_write(&scene, &args.common)?;
+    if !scene.joints.is_empty() {
+        // The paper's comparison (its dashed lines): the same scene bonded.
+        let mut bonded = scene.clone();
+        bonded.joints.clear();
+        bonded.title = format!("{} (without joints)", scene.title);
+        let dir = out.join(WITHOUT_JOINTS);
+        solve_to(&bonded, &dir, true)?;
+        println!("  comparison without joints: {}", dir.display());
+    }
     crate::report_cmd::report(&out)
 }

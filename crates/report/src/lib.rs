@@ -21,6 +21,9 @@ pub mod csv_out;
 pub mod cuts;
 pub mod error;
 pub mod field;
+pub mod plots;
+pub mod gmsh_view;
+pub mod vtu;
 
 pub use error::ReportError;
 

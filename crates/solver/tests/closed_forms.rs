@@ -12,11 +12,14 @@
 //! u_theta = c r z) lie in the span of the quadratic elements, so T6, Q8 and
 //! Q9 must reproduce them to round-off at every node (1e-8 relative leaves
 //! room for the conditioning of the sparse solve, not for a modelling
-//! error); the cantilever checks harmonic 1 with a clamped end against beam
-//! theory (1 %, see its test).
+//! error; measured 1e-14 .. 1e-12); the cantilever checks harmonic 1 with a
+//! clamped end against beam theory (1 %, see its test).
 //!
-//! Mesh and supports: `geo/cylinder.geo`, a solid cylinder of radius a and
-//! length L meshed by gmsh (unstructured):
+//! Mesh and supports: a solid cylinder of radius a and length L, meshed by
+//! gmsh from `geo/cylinder.geo` (unstructured: T6, Q9, and Q9 for the
+//! cantilever) and from `geo/thick_cylinder.geo` with `hole = 0` (structured
+//! rectangles / triangles: T6, Q8, Q9). Q8 is exact only on parallelograms,
+//! see [`exactness_meshes`].
 //!
 //! ```text
 //!   z = L  +------+  top: end tractions
@@ -32,9 +35,10 @@
 //! | torsion | bottom: z, theta; origin: r | top: t_theta = T r / J |
 //! | cantilever | bottom: r, z, theta | top: t_x = P / A |
 //!
-//! Parameters: a = 0.5, L = 2 (bending, torsion), E = 2.0e4, nu = 0.17
-//! (the paper's concrete), s = 3, T = 5; cantilever a = 0.5, L = 6 (L/a = 12),
-//! E = 1000, nu = 0.3, P = 1.
+//! Parameters: bending and torsion a = 0.5, L = 2, E = 2.0e4, nu = 0.17
+//! (the paper's concrete), s = 3, T = 5, size 0.25 (unstructured) and 0.125
+//! (structured); cantilever a = 0.5, E = 1000, P = 1, Q9 of size a / 8,
+//! nu = 0.3 with L / a = 20 and nu = 0 with L / a = 12.
 
 mod common;
 
@@ -82,10 +86,20 @@ fn to_cylindrical(v: [f64; 3], theta: f64) -> [f64; 3] {
 fn exactness_meshes(a: f64, l: f64) -> Vec<(&'static str, CellKind, axijoint_mesh::Mesh)> {
     let mut out = Vec::new();
     for kind in [CellKind::Tri6, CellKind::Quad9] {
-        out.push(("unstructured", kind, mesh("cylinder.geo", kind, &[("a", a), ("L", l), ("size", 0.25)], &[])));
+        out.push((
+            "unstructured",
+            kind,
+            mesh("cylinder.geo", kind, &[("a", a), ("L", l), ("size", 0.25)], &[]),
+        ));
     }
     for kind in QUADRATIC {
-        let params = [("a", a), ("hole", 0.0), ("L", l), ("size", 0.125), ("transfinite", 1.0)];
+        let params = [
+            ("a", a),
+            ("hole", 0.0),
+            ("L", l),
+            ("size", 0.125),
+            ("transfinite", 1.0),
+        ];
         out.push(("structured", kind, mesh("thick_cylinder.geo", kind, &params, &[])));
     }
     out
@@ -105,11 +119,16 @@ fn pure_bending_is_exact_for_quadratic_elements_in_both_families() {
     let (a, l, e, nu, s): (f64, f64, f64, f64, f64) = (0.5, 2.0, 2.0e4, 0.17, 3.0);
     let thetas: [f64; 6] = [0.0, 0.4, 1.3, 2.2, 3.0, 4.5];
     for (label, kind, mesh) in exactness_meshes(a, l) {
-        let fixed = Supports::new(&mesh).curve("bottom", &[Z]).point("origin", &[R]).done();
+        let fixed = Supports::new(&mesh)
+            .curve("bottom", &[Z])
+            .point("origin", &[R])
+            .done();
         let sym_load = |x: f64, _y: f64, _z: f64| [0.0, 0.0, s * x];
         let anti_load = |_x: f64, y: f64, _z: f64| [0.0, 0.0, s * y];
         let f_sym = traction(&mesh, "top", 1, &|r, z| project(1, Family::Sym, &sym_load, r, z));
-        let f_anti = traction(&mesh, "top", 1, &|r, z| project(1, Family::Anti, &anti_load, r, z));
+        let f_anti = traction(&mesh, "top", 1, &|r, z| {
+            project(1, Family::Anti, &anti_load, r, z)
+        });
         let (model, u) = solve(
             mesh,
             Elastic::new(e, nu).unwrap(),
@@ -120,7 +139,11 @@ fn pure_bending_is_exact_for_quadratic_elements_in_both_families() {
         );
         let mesh = &model.mesh;
         for (family, sol, exact) in [
-            (Family::Sym, &u[0], bending_about_y as fn(f64, f64, f64, f64, f64, f64) -> [f64; 3]),
+            (
+                Family::Sym,
+                &u[0],
+                bending_about_y as fn(f64, f64, f64, f64, f64, f64) -> [f64; 3],
+            ),
             (Family::Anti, &u[1], bending_about_x),
         ] {
             let (mut err, mut scale) = (0.0f64, 0.0f64);
@@ -135,12 +158,25 @@ fn pure_bending_is_exact_for_quadratic_elements_in_both_families() {
                     }
                 }
             }
-            println!("bending {label} {kind:?} {family:?}: max nodal error {err:.3e}, relative {:.3e}", err / scale);
-            assert!(err / scale < 1e-8, "{label} {kind:?} {family:?}: relative error {:.3e}", err / scale);
+            println!(
+                "bending {label} {kind:?} {family:?}: max nodal error {err:.3e}, relative {:.3e}",
+                err / scale
+            );
+            assert!(
+                err / scale < 1e-8,
+                "{label} {kind:?} {family:?}: relative error {:.3e}",
+                err / scale
+            );
         }
         // Same K, same load amplitudes: the amplitudes themselves agree.
-        let diff = u[0].iter().zip(&u[1]).fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
-        assert!(diff <= 1e-12 * max_abs(&u[0]), "{label} {kind:?}: families differ by {diff:.3e}");
+        let diff = u[0]
+            .iter()
+            .zip(&u[1])
+            .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+        assert!(
+            diff <= 1e-12 * max_abs(&u[0]),
+            "{label} {kind:?}: families differ by {diff:.3e}"
+        );
     }
 }
 
@@ -163,8 +199,15 @@ fn torsion_is_exact_for_quadratic_elements() {
         let (model, u) = solve(mesh, mat, Vec::new(), fixed, 0, &[&f]);
         let exact = |r: f64, z: f64| [0.0, 0.0, t * r * z / (g * j)];
         let (err, scale) = max_nodal_error(&model.mesh, &u[0], &[R, Z, TH], &exact);
-        println!("torsion {label} {kind:?}: max nodal error {err:.3e}, relative {:.3e}", err / scale);
-        assert!(err / scale < 1e-8, "{label} {kind:?}: relative error {:.3e}", err / scale);
+        println!(
+            "torsion {label} {kind:?}: max nodal error {err:.3e}, relative {:.3e}",
+            err / scale
+        );
+        assert!(
+            err / scale < 1e-8,
+            "{label} {kind:?}: relative error {:.3e}",
+            err / scale
+        );
     }
 }
 
@@ -185,7 +228,12 @@ fn cantilever(nu: f64, l_over_a: f64, size: f64) -> (f64, f64, f64) {
     let (area, inertia, g) = (PI * a * a, PI * a.powi(4) / 4.0, mat.shear_modulus());
     let kappa = 6.0 * (1.0 + nu) / (7.0 + 6.0 * nu);
     let delta = p * l.powi(3) / (3.0 * e * inertia) + p * l / (kappa * g * area);
-    let mesh = mesh("cylinder.geo", CellKind::Quad9, &[("a", a), ("L", l), ("size", size)], &[]);
+    let mesh = mesh(
+        "cylinder.geo",
+        CellKind::Quad9,
+        &[("a", a), ("L", l), ("size", size)],
+        &[],
+    );
     let fixed = Supports::new(&mesh).curve("bottom", &[R, Z, TH]).done();
     let load = |_x: f64, _y: f64, _z: f64| [p / area, 0.0, 0.0];
     let f = traction(&mesh, "top", 1, &|r, z| project(1, Family::Sym, &load, r, z));
@@ -231,9 +279,18 @@ fn cantilever(nu: f64, l_over_a: f64, size: f64) -> (f64, f64, f64) {
 #[test]
 fn cantilever_tip_shear_matches_timoshenko() {
     let (delta, mean, axis) = cantilever(0.3, 20.0, 0.0625);
-    assert!((mean / delta - 1.0).abs() < 0.01, "nu = 0.3: mean tip deflection {mean:.6e} vs {delta:.6e}");
+    assert!(
+        (mean / delta - 1.0).abs() < 0.01,
+        "nu = 0.3: mean tip deflection {mean:.6e} vs {delta:.6e}"
+    );
     // The axis node lags the mean by the warping of the section (< 0.1 %).
-    assert!((axis / mean - 1.0).abs() < 1e-3, "axis {axis:.6e} vs mean {mean:.6e}");
+    assert!(
+        (axis / mean - 1.0).abs() < 1e-3,
+        "axis {axis:.6e} vs mean {mean:.6e}"
+    );
     let (delta, mean, _) = cantilever(0.0, 12.0, 0.0625);
-    assert!((mean / delta - 1.0).abs() < 5e-4, "nu = 0: mean tip deflection {mean:.6e} vs {delta:.6e}");
+    assert!(
+        (mean / delta - 1.0).abs() < 5e-4,
+        "nu = 0: mean tip deflection {mean:.6e} vs {delta:.6e}"
+    );
 }

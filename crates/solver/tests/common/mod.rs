@@ -19,10 +19,10 @@
 
 #![allow(dead_code)] // each test file uses a part of the helpers
 
-use axijoint_mesh::{prepare, CellKind, JointSpec, Mesh};
 use axijoint_mesh::geometry::{derivatives_rz, interpolate, jacobian};
 use axijoint_mesh::quadrature::{quad_gauss, triangle};
 use axijoint_mesh::shapes::MAX_CELL_NODES;
+use axijoint_mesh::{prepare, CellKind, JointSpec, Mesh};
 use axijoint_solver::assembly::JointModel;
 use axijoint_solver::elements::{c_m, edge_load};
 use axijoint_solver::linear::Model;
@@ -71,7 +71,9 @@ pub fn angular(m: u32, family: Family, theta: f64) -> [f64; 3] {
 
 /// Path of a file in the workspace's `geo/` folder.
 pub fn geo(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../geo").join(name)
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../geo")
+        .join(name)
 }
 
 /// gmsh parameters `(order, quads, serendipity)` that make `kind`.
@@ -107,7 +109,9 @@ pub fn mesh(name: &str, kind: CellKind, params: &[(&str, f64)], joints: &[&str])
 
 /// Nodes of the line elements of a physical curve, sorted, each once.
 pub fn curve_nodes(mesh: &Mesh, curve: &str) -> Vec<usize> {
-    let set = mesh.curve(curve).unwrap_or_else(|| panic!("no physical curve {curve}"));
+    let set = mesh
+        .curve(curve)
+        .unwrap_or_else(|| panic!("no physical curve {curve}"));
     let mut nodes: Vec<usize> = set.edges.iter().flat_map(|e| e.nodes.iter().copied()).collect();
     nodes.sort_unstable();
     nodes.dedup();
@@ -170,7 +174,9 @@ pub fn traction(mesh: &Mesh, curve: &str, m: u32, t: &dyn Fn(f64, f64) -> [f64; 
 
 /// Adds the consistent nodal loads of a traction to `f`.
 pub fn add_traction(mesh: &Mesh, curve: &str, m: u32, t: &dyn Fn(f64, f64) -> [f64; 3], f: &mut [f64]) {
-    let set = mesh.curve(curve).unwrap_or_else(|| panic!("no physical curve {curve}"));
+    let set = mesh
+        .curve(curve)
+        .unwrap_or_else(|| panic!("no physical curve {curve}"));
     let mut fe = [0.0; 9];
     for ed in &set.edges {
         let coords: Vec<[f64; 2]> = ed.nodes.iter().map(|&k| mesh.nodes[k]).collect();
@@ -245,7 +251,12 @@ pub fn synthesize(u: &[f64], k: usize, m: u32, family: Family, theta: f64) -> [f
 
 /// Largest nodal error `max_k,c |u[3k+c] - exact(r, z)[c]|` and the largest
 /// exact value, over the components `comps`.
-pub fn max_nodal_error(mesh: &Mesh, u: &[f64], comps: &[usize], exact: &dyn Fn(f64, f64) -> [f64; 3]) -> (f64, f64) {
+pub fn max_nodal_error(
+    mesh: &Mesh,
+    u: &[f64],
+    comps: &[usize],
+    exact: &dyn Fn(f64, f64) -> [f64; 3],
+) -> (f64, f64) {
     let (mut err, mut scale) = (0.0f64, 0.0f64);
     for (k, p) in mesh.nodes.iter().enumerate() {
         let ex = exact(p[0], p[1]);
@@ -356,7 +367,13 @@ pub fn local_slopes(h: &[f64], err: &[f64]) -> Vec<f64> {
 /// | 1, Sym | Fx = sum (f_r - f_theta), My = sum (z (f_r - f_theta) - r f_z) |
 /// | 1, Anti | Fy = sum (f_r - f_theta), Mx = sum (r f_z - z (f_r - f_theta)) |
 /// | >= 2 | none (every resultant integrates to zero) |
-pub fn resultants(mesh: &Mesh, f: &[f64], m: u32, family: Family, select: &dyn Fn(usize) -> bool) -> [f64; 6] {
+pub fn resultants(
+    mesh: &Mesh,
+    f: &[f64],
+    m: u32,
+    family: Family,
+    select: &dyn Fn(usize) -> bool,
+) -> [f64; 6] {
     let mut out = [0.0; 6];
     for (k, p) in mesh.nodes.iter().enumerate() {
         if !select(k) {
@@ -397,7 +414,11 @@ pub fn resultants_by_quadrature(mesh: &Mesh, f: &[f64], m: u32, family: Family) 
             let th = dth * i as f64;
             let (c, s) = (th.cos(), th.sin());
             let g = angular(m, family, th);
-            let (fr, fz, ft) = (f[3 * k] * g[0] / cm, f[3 * k + 1] * g[1] / cm, f[3 * k + 2] * g[2] / cm);
+            let (fr, fz, ft) = (
+                f[3 * k] * g[0] / cm,
+                f[3 * k + 1] * g[1] / cm,
+                f[3 * k + 2] * g[2] / cm,
+            );
             let fc = [fr * c - ft * s, fr * s + ft * c, fz];
             let x = [r * c, r * s, z];
             let mom = [
@@ -417,4 +438,10 @@ pub fn resultants_by_quadrature(mesh: &Mesh, f: &[f64], m: u32, family: Family) 
 /// Largest absolute value of a slice.
 pub fn max_abs(v: &[f64]) -> f64 {
     v.iter().fold(0.0f64, |a, b| a.max(b.abs()))
+}
+
+/// `[1.234e-5, ...]` for messages.
+pub fn sci(v: &[f64]) -> String {
+    let items: Vec<String> = v.iter().map(|x| format!("{x:.3e}")).collect();
+    format!("[{}]", items.join(", "))
 }

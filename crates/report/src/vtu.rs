@@ -1,0 +1,925 @@
+//! ParaView views: the meridional solution revolved into a 3D unstructured
+//! grid (`.vtu`, VTK XML), and the joint surfaces in a second file.
+//!
+//! # The solid file
+//!
+//! [`write_vtu`] revolves every meridional cell over `n` sections of the full
+//! turn, `theta_k = 2 pi k / n` (k = 0 .. n-1; section n is section 0 again).
+//! Point `(r, z)` at angle theta is `(x, y, z) = (r cos theta, r sin theta,
+//! z)`: theta = 0 is +x, as in the solver. Quadratic cells stay quadratic; the
+//! revolution then needs a ring of points at the mid angles
+//! `theta_{k+1/2}`, placed on the true circle.
+//!
+//! | meridional | VTK cell (type) | nodes |
+//! |---|---|---|
+//! | T3 | wedge (13) | base = T3 at theta_k, top = T3 at theta_{k+1} |
+//! | T6 | quadratic wedge (26) | corners k, corners k+1, mids k, mids k+1, corners at k+1/2 |
+//! | Q4 | hexahedron (12) | base = Q4 at theta_{k+1}, top = Q4 at theta_k |
+//! | Q8 | quadratic hexahedron (25) | corners k+1, corners k, mids k+1, mids k, corners at k+1/2 |
+//! | Q9 | triquadratic hexahedron (29) | as Q8, then face centres (meridional mids 7, 5, 4, 6 at k+1/2; centre at k+1, k), centre at k+1/2 |
+//!
+//! Orientation follows VTK's face tables (every face normal points out of
+//! the cell, as `vtkCell::GetFace` promises): a counter-clockwise meridional
+//! cell has its normal along -theta, so a hexahedron's base `(0,1,2,3)`, whose
+//! normal must point towards the top, is the ring at theta_{k+1}, while a
+//! wedge's base `(0,1,2)`, whose normal must point away from the top (see
+//! `vtkWedge`), is the ring at theta_k. (VTK's parametric Jacobian is then
+//! positive for hexahedra and negative for wedges: VTK's wedge convention.)
+//!
+//! **Points** are not shared between bodies: each body has its own rings of
+//! points, so the stress of each body is its own (DESIGN.md section 4). Points
+//! on the axis (r = 0) are kept once per section (coincident duplicates): the
+//! cells next to the axis are degenerate (a zero-area face), which ParaView
+//! draws and filters without complaint, and each duplicate carries the value
+//! of its own section.
+//!
+//! | point data | components |
+//! |---|---|
+//! | `displacement` | Cartesian `(u_x, u_y, u_z)` |
+//! | `displacement_cyl` | `(u_r, u_z, u_theta)` |
+//! | `stress` | Cartesian tensor, 9 components, row-major `XX XY XZ YX YY YZ ZX ZY ZZ` |
+//! | `sigma_cyl` | `(sigma_r, sigma_z, sigma_theta, tau_rz, tau_rtheta, tau_ztheta)` |
+//! | `von_mises` | equivalent stress |
+//!
+//! The nodal stress of a body is the average, over the body's cells at that
+//! node, of each cell's own stress at the node (never across bodies). Cell
+//! data: `body` (index into the mesh's bodies) and `meridional_cell` (index of
+//! the meridional cell the 3D cell was revolved from).
+//!
+//! # The joint file
+//!
+//! With a joint field, [`write_vtu`] also writes [`joints_path`]`(path)`
+//! (`name_joints.vtu`): each joint element revolved over the same sections,
+//! as quads (VTK 9, 4-node joints) or biquadratic quads (VTK 28, 6-node
+//! joints), from the bottom-face nodes, oriented so that the normal is the
+//! joint's eta (into the top body). Point data: `displacement` (bottom face)
+//! and `displacement_top`, Cartesian. Cell data, for the cell of element e in
+//! the slot [theta_k, theta_{k+1}]:
+//!
+//! - the joint field at the section nearest to the slot's mid angle. A set of
+//!   sections in [0, pi] (the symmetric half, recognised by its weights)
+//!   stands for its mirror image too: theta > pi uses the section at
+//!   2 pi - theta, with `tau_theta` and `d_theta` negated (odd in theta in
+//!   the symmetric family). `section_deg` names the section used.
+//! - over the element's integration points at that section: `state` is the
+//!   state holding the largest share of the element's area (ties go to the
+//!   more severe: 0 stick, 1 slip, 2 open); `open_fraction` and
+//!   `slip_fraction` are those shares; `opening`, `slip`, `sigma_n`,
+//!   `tau_xi`, `tau_theta` and `d` (`d_xi, d_eta, d_theta`) are area-weighted
+//!   means (plain means where all weights are zero, on the axis).
+//! - `joint` (index into the mesh's joints) and `element` (within the joint).
+//!
+//! # Encoding
+//!
+//! VTK XML 1.0, `header_type="UInt64"`, little-endian, every array inline
+//! base64 (`format="binary"`, uncompressed; header and data one base64
+//! stream). Files are written under a temporary name and renamed into place;
+//! a non-finite value fails with [`ReportError::NotFinite`] before anything
+//! is written.
+
+use crate::field::{Field, STRESS_NAMES};
+use crate::ReportError;
+use axijoint_mesh::{CellKind, JointKind, Mesh};
+use axijoint_solver::fourier::Sections;
+use axijoint_solver::joint_law::JointState;
+use axijoint_solver::results::JointFieldFile;
+use base64::Engine;
+use quick_xml::events::{BytesDecl, BytesEnd, BytesStart, BytesText, Event};
+use quick_xml::Writer;
+use std::f64::consts::PI;
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+/// VTK cell type numbers used here.
+pub mod cell_type {
+    /// Linear wedge (6 nodes).
+    pub const WEDGE: u8 = 13;
+    /// Linear hexahedron (8 nodes).
+    pub const HEXAHEDRON: u8 = 12;
+    /// Quadratic wedge (15 nodes).
+    pub const QUADRATIC_WEDGE: u8 = 26;
+    /// Quadratic (serendipity) hexahedron (20 nodes).
+    pub const QUADRATIC_HEXAHEDRON: u8 = 25;
+    /// Triquadratic hexahedron (27 nodes).
+    pub const TRIQUADRATIC_HEXAHEDRON: u8 = 29;
+    /// Linear quadrilateral (4 nodes).
+    pub const QUAD: u8 = 9;
+    /// Biquadratic quadrilateral (9 nodes).
+    pub const BIQUADRATIC_QUAD: u8 = 28;
+}
+
+/// The VTK cell a meridional cell becomes when revolved: `(type, nodes)`.
+pub fn revolved_cell_type(kind: CellKind) -> (u8, usize) {
+    match kind {
+        CellKind::Tri3 => (cell_type::WEDGE, 6),
+        CellKind::Tri6 => (cell_type::QUADRATIC_WEDGE, 15),
+        CellKind::Quad4 => (cell_type::HEXAHEDRON, 8),
+        CellKind::Quad8 => (cell_type::QUADRATIC_HEXAHEDRON, 20),
+        CellKind::Quad9 => (cell_type::TRIQUADRATIC_HEXAHEDRON, 27),
+    }
+}
+
+/// The joint file written next to `path`: `dir/stem_joints.vtu`.
+pub fn joints_path(path: &Path) -> PathBuf {
+    let stem = path.file_stem().map_or_else(|| "view".into(), |s| s.to_string_lossy().into_owned());
+    path.with_file_name(format!("{stem}_joints.vtu"))
+}
+
+/// Writes the 3D field revolved over `n_sections` sections of the full turn
+/// to `path` (see the module documentation for the layout), and, when
+/// `joints` is given and the mesh has joints, the joint surfaces with their
+/// state to [`joints_path`]`(path)`.
+///
+/// `n_sections` must be at least 3. Nothing is written when a value is not
+/// finite ([`ReportError::NotFinite`]) or the joint field does not match the
+/// mesh ([`ReportError::Input`]).
+pub fn write_vtu(
+    path: &Path,
+    field: &Field,
+    n_sections: usize,
+    joints: Option<&JointFieldFile>,
+) -> Result<(), ReportError> {
+    if n_sections < 3 {
+        return Err(ReportError::Input(format!(
+            "{}: a revolved view needs at least 3 sections, not {n_sections}",
+            path.display()
+        )));
+    }
+    let solid = solid_grid(path, field, n_sections)?;
+    let joint_grid = match joints {
+        Some(jf) if !field.mesh.joints.is_empty() => {
+            let jpath = joints_path(path);
+            Some((joint_grid(&jpath, field, n_sections, jf)?, jpath))
+        }
+        _ => None,
+    };
+    let tmp = write_temp(path, |w| solid.write(w))?;
+    let jtmp = match &joint_grid {
+        Some((grid, jpath)) => match write_temp(jpath, |w| grid.write(w)) {
+            Ok(t) => Some((t, jpath)),
+            Err(e) => {
+                let _ = std::fs::remove_file(&tmp);
+                return Err(e);
+            }
+        },
+        None => None,
+    };
+    if let Some((t, jpath)) = jtmp {
+        commit(&t, jpath).inspect_err(|_| {
+            let _ = std::fs::remove_file(&tmp);
+        })?;
+    }
+    commit(&tmp, path)
+}
+
+// ---------------------------------------------------------------------------
+// Temporary files.
+
+/// Writes `path`'s content to a temporary file in the same folder and returns
+/// its name; removes it on error.
+pub(crate) fn write_temp(
+    path: &Path,
+    f: impl FnOnce(&mut BufWriter<File>) -> std::io::Result<()>,
+) -> Result<PathBuf, ReportError> {
+    let name = path
+        .file_name()
+        .ok_or_else(|| ReportError::write(path, "not a file name"))?
+        .to_string_lossy();
+    let tmp = path.with_file_name(format!(".{name}.{}.tmp", std::process::id()));
+    let result = (|| {
+        let mut w = BufWriter::new(File::create(&tmp)?);
+        f(&mut w)?;
+        w.into_inner().map_err(|e| e.into_error())?.sync_all()
+    })();
+    match result {
+        Ok(()) => Ok(tmp),
+        Err(e) => {
+            let _ = std::fs::remove_file(&tmp);
+            Err(ReportError::write(path, e))
+        }
+    }
+}
+
+/// Renames a file made by [`write_temp`] into place.
+pub(crate) fn commit(tmp: &Path, path: &Path) -> Result<(), ReportError> {
+    std::fs::rename(tmp, path).map_err(|e| {
+        let _ = std::fs::remove_file(tmp);
+        ReportError::write(path, e)
+    })
+}
+
+/// Fails with [`ReportError::NotFinite`] unless every value is finite.
+pub(crate) fn check_finite(path: &Path, values: &[f64], what: impl FnOnce() -> String) -> Result<(), ReportError> {
+    if values.iter().all(|v| v.is_finite()) {
+        Ok(())
+    } else {
+        Err(ReportError::NotFinite {
+            path: path.to_path_buf(),
+            what: what(),
+        })
+    }
+}
+
+// ---------------------------------------------------------------------------
+// Grid and XML.
+
+/// Values of a data array.
+enum Values {
+    F64(Vec<f64>),
+    I32(Vec<i32>),
+    I64(Vec<i64>),
+    U8(Vec<u8>),
+}
+
+impl Values {
+    fn type_name(&self) -> &'static str {
+        match self {
+            Values::F64(_) => "Float64",
+            Values::I32(_) => "Int32",
+            Values::I64(_) => "Int64",
+            Values::U8(_) => "UInt8",
+        }
+    }
+
+    /// Little-endian bytes.
+    fn bytes(&self) -> Vec<u8> {
+        match self {
+            Values::F64(v) => v.iter().flat_map(|x| x.to_le_bytes()).collect(),
+            Values::I32(v) => v.iter().flat_map(|x| x.to_le_bytes()).collect(),
+            Values::I64(v) => v.iter().flat_map(|x| x.to_le_bytes()).collect(),
+            Values::U8(v) => v.clone(),
+        }
+    }
+}
+
+/// A named data array.
+struct Array {
+    name: &'static str,
+    components: usize,
+    component_names: &'static [&'static str],
+    values: Values,
+}
+
+impl Array {
+    fn f64(name: &'static str, components: usize, values: Vec<f64>) -> Array {
+        Array {
+            name,
+            components,
+            component_names: &[],
+            values: Values::F64(values),
+        }
+    }
+
+    fn named(mut self, names: &'static [&'static str]) -> Array {
+        self.component_names = names;
+        self
+    }
+}
+
+/// One unstructured piece.
+#[derive(Default)]
+struct Grid {
+    points: Vec<f64>,
+    connectivity: Vec<i64>,
+    offsets: Vec<i64>,
+    types: Vec<u8>,
+    point_data: Vec<Array>,
+    cell_data: Vec<Array>,
+}
+
+impl Grid {
+    fn push_cell(&mut self, vtk_type: u8, nodes: &[usize]) {
+        self.connectivity.extend(nodes.iter().map(|&n| n as i64));
+        self.offsets.push(self.connectivity.len() as i64);
+        self.types.push(vtk_type);
+    }
+
+    fn n_points(&self) -> usize {
+        self.points.len() / 3
+    }
+
+    fn write(&self, out: &mut impl Write) -> std::io::Result<()> {
+        let mut w = Writer::new_with_indent(out, b' ', 2);
+        w.write_event(Event::Decl(BytesDecl::new("1.0", None, None)))?;
+        let mut file = BytesStart::new("VTKFile");
+        file.push_attribute(("type", "UnstructuredGrid"));
+        file.push_attribute(("version", "1.0"));
+        file.push_attribute(("byte_order", "LittleEndian"));
+        file.push_attribute(("header_type", "UInt64"));
+        w.write_event(Event::Start(file))?;
+        w.write_event(Event::Start(BytesStart::new("UnstructuredGrid")))?;
+        let mut piece = BytesStart::new("Piece");
+        piece.push_attribute(("NumberOfPoints", self.n_points().to_string().as_str()));
+        piece.push_attribute(("NumberOfCells", self.types.len().to_string().as_str()));
+        w.write_event(Event::Start(piece))?;
+        for (tag, arrays) in [("PointData", &self.point_data), ("CellData", &self.cell_data)] {
+            let mut el = BytesStart::new(tag);
+            // The arrays ParaView shows first.
+            for (role, name) in [
+                ("Scalars", "von_mises"),
+                ("Scalars", "state"),
+                ("Scalars", "body"),
+                ("Vectors", "displacement"),
+                ("Tensors", "stress"),
+            ] {
+                let taken = el.attributes().any(|a| a.is_ok_and(|a| a.key.as_ref() == role.as_bytes()));
+                if !taken && arrays.iter().any(|a| a.name == name) {
+                    el.push_attribute((role, name));
+                }
+            }
+            w.write_event(Event::Start(el))?;
+            for a in arrays.iter() {
+                write_array(&mut w, a)?;
+            }
+            w.write_event(Event::End(BytesEnd::new(tag)))?;
+        }
+        w.write_event(Event::Start(BytesStart::new("Points")))?;
+        write_array(&mut w, &Array::f64("Points", 3, self.points.clone()))?;
+        w.write_event(Event::End(BytesEnd::new("Points")))?;
+        w.write_event(Event::Start(BytesStart::new("Cells")))?;
+        for (name, values) in [
+            ("connectivity", Values::I64(self.connectivity.clone())),
+            ("offsets", Values::I64(self.offsets.clone())),
+            ("types", Values::U8(self.types.clone())),
+        ] {
+            write_array(
+                &mut w,
+                &Array {
+                    name,
+                    components: 1,
+                    component_names: &[],
+                    values,
+                },
+            )?;
+        }
+        w.write_event(Event::End(BytesEnd::new("Cells")))?;
+        w.write_event(Event::End(BytesEnd::new("Piece")))?;
+        w.write_event(Event::End(BytesEnd::new("UnstructuredGrid")))?;
+        w.write_event(Event::End(BytesEnd::new("VTKFile")))?;
+        w.get_mut().write_all(b"\n")
+    }
+}
+
+fn write_array<W: Write>(w: &mut Writer<W>, a: &Array) -> std::io::Result<()> {
+    let mut el = BytesStart::new("DataArray");
+    el.push_attribute(("type", a.values.type_name()));
+    el.push_attribute(("Name", a.name));
+    if a.components != 1 {
+        el.push_attribute(("NumberOfComponents", a.components.to_string().as_str()));
+    }
+    let keys: Vec<String> = (0..a.component_names.len()).map(|i| format!("ComponentName{i}")).collect();
+    for (k, v) in keys.iter().zip(a.component_names) {
+        el.push_attribute((k.as_str(), *v));
+    }
+    el.push_attribute(("format", "binary"));
+    w.write_event(Event::Start(el))?;
+    let data = a.values.bytes();
+    let mut raw = Vec::with_capacity(8 + data.len());
+    raw.extend_from_slice(&(data.len() as u64).to_le_bytes());
+    raw.extend_from_slice(&data);
+    let text = base64::engine::general_purpose::STANDARD.encode(raw);
+    w.write_event(Event::Text(BytesText::new(&text)))?;
+    w.write_event(Event::End(BytesEnd::new("DataArray")))
+}
+
+// ---------------------------------------------------------------------------
+// Revolution.
+
+/// Point numbering of revolved meridional nodes: `n` rings at theta_k, then
+/// (for the nodes that need one) `n` rings at theta_{k+1/2}.
+struct Rings {
+    n: usize,
+    base: usize,
+    /// Meridional nodes with a full ring, in point order.
+    nodes: Vec<usize>,
+    /// Meridional nodes with a mid-angle ring, in point order.
+    mids: Vec<usize>,
+    /// Mesh node -> position in `nodes`.
+    local: Vec<usize>,
+    /// Mesh node -> position in `mids`.
+    local_mid: Vec<usize>,
+}
+
+impl Rings {
+    fn new(n: usize, base: usize, n_mesh_nodes: usize, nodes: Vec<usize>, mids: Vec<usize>) -> Rings {
+        let mut local = vec![usize::MAX; n_mesh_nodes];
+        let mut local_mid = vec![usize::MAX; n_mesh_nodes];
+        for (i, &m) in nodes.iter().enumerate() {
+            local[m] = i;
+        }
+        for (i, &m) in mids.iter().enumerate() {
+            local_mid[m] = i;
+        }
+        Rings {
+            n,
+            base,
+            nodes,
+            mids,
+            local,
+            local_mid,
+        }
+    }
+
+    /// Point of mesh node `node` at theta_k (k taken modulo n).
+    fn at(&self, node: usize, k: usize) -> usize {
+        self.base + (k % self.n) * self.nodes.len() + self.local[node]
+    }
+
+    /// Point of mesh node `node` at theta_{k+1/2}.
+    fn mid(&self, node: usize, k: usize) -> usize {
+        self.base + self.n * self.nodes.len() + k * self.mids.len() + self.local_mid[node]
+    }
+
+    fn len(&self) -> usize {
+        self.n * (self.nodes.len() + self.mids.len())
+    }
+
+    /// `(mesh node, theta)` of every point, in point order.
+    fn points(&self) -> impl Iterator<Item = (usize, f64)> + '_ {
+        let n = self.n;
+        let full = (0..n).flat_map(move |k| self.nodes.iter().map(move |&m| (m, ring_angle(k, n))));
+        let half = (0..n).flat_map(move |k| self.mids.iter().map(move |&m| (m, mid_angle(k, n))));
+        full.chain(half)
+    }
+}
+
+fn ring_angle(k: usize, n: usize) -> f64 {
+    2.0 * PI * k as f64 / n as f64
+}
+
+fn mid_angle(k: usize, n: usize) -> f64 {
+    2.0 * PI * (k as f64 + 0.5) / n as f64
+}
+
+/// VTK node list of meridional cell `nodes` revolved over slot k.
+fn revolve(kind: CellKind, nodes: &[usize], k: usize, rings: &Rings) -> Vec<usize> {
+    let lo = |i: usize| rings.at(nodes[i], k);
+    let hi = |i: usize| rings.at(nodes[i], k + 1);
+    let mid = |i: usize| rings.mid(nodes[i], k);
+    let mut v = Vec::with_capacity(27);
+    match kind {
+        CellKind::Tri3 => {
+            v.extend((0..3).map(lo));
+            v.extend((0..3).map(hi));
+        }
+        CellKind::Tri6 => {
+            v.extend((0..3).map(lo));
+            v.extend((0..3).map(hi));
+            v.extend((3..6).map(lo));
+            v.extend((3..6).map(hi));
+            v.extend((0..3).map(mid));
+        }
+        CellKind::Quad4 => {
+            v.extend((0..4).map(hi));
+            v.extend((0..4).map(lo));
+        }
+        CellKind::Quad8 | CellKind::Quad9 => {
+            v.extend((0..4).map(hi));
+            v.extend((0..4).map(lo));
+            v.extend((4..8).map(hi));
+            v.extend((4..8).map(lo));
+            v.extend((0..4).map(mid));
+            if kind == CellKind::Quad9 {
+                // Face centres: faces (0,4,7,3), (1,2,6,5), (0,1,5,4),
+                // (3,2,6,7) hold meridional edges 3-0, 1-2, 0-1, 2-3; then
+                // base (ring k+1) and top (ring k); then the centre.
+                v.extend([7, 5, 4, 6].map(mid));
+                v.push(hi(8));
+                v.push(lo(8));
+                v.push(mid(8));
+            }
+        }
+    }
+    v
+}
+
+/// Local nodes of a cell that need a mid-angle ring.
+fn mid_ring_nodes(kind: CellKind) -> std::ops::Range<usize> {
+    match kind {
+        CellKind::Tri3 | CellKind::Quad4 => 0..0,
+        CellKind::Tri6 | CellKind::Quad8 => 0..kind.n_corners(),
+        CellKind::Quad9 => 0..9,
+    }
+}
+
+/// Cartesian position of `(r, z)` at `theta`.
+fn position(p: [f64; 2], theta: f64) -> [f64; 3] {
+    let (s, c) = theta.sin_cos();
+    [p[0] * c, p[0] * s, p[1]]
+}
+
+/// The cylindrical stress `(sr, sz, st, trz, trt, tzt)` as a Cartesian
+/// tensor, row-major 3x3.
+pub fn stress_to_cartesian(s: [f64; 6], theta: f64) -> [f64; 9] {
+    let [sr, sz, st, trz, trt, tzt] = s;
+    let (sn, c) = theta.sin_cos();
+    let xx = sr * c * c + st * sn * sn - 2.0 * trt * sn * c;
+    let yy = sr * sn * sn + st * c * c + 2.0 * trt * sn * c;
+    let xy = (sr - st) * sn * c + trt * (c * c - sn * sn);
+    let yz = trz * sn + tzt * c;
+    let xz = trz * c - tzt * sn;
+    [xx, xy, xz, xy, yy, yz, xz, yz, sz]
+}
+
+/// Von Mises equivalent of a cylindrical stress.
+fn von_mises(s: [f64; 6]) -> f64 {
+    let [sr, sz, st, trz, trt, tzt] = s;
+    (0.5 * ((sr - sz).powi(2) + (sz - st).powi(2) + (st - sr).powi(2)) + 3.0 * (trz * trz + trt * trt + tzt * tzt))
+        .sqrt()
+}
+
+/// Stress of a body's nodes as trigonometric polynomials in theta: the
+/// element-node values of every cell of the body, averaged per node, as the
+/// coefficients `c_0, a_1, b_1, ..., a_M, b_M` of
+/// `c_0 + sum a_m cos(m theta) + b_m sin(m theta)` (exact: the field has no
+/// harmonic above M). Recovered from `2M + 1` equispaced evaluations.
+struct NodalStress {
+    /// Number of coefficients, `2M + 1`.
+    nc: usize,
+    /// `coef[local node * nc + i]`.
+    coef: Vec<[f64; 6]>,
+}
+
+impl NodalStress {
+    fn new(field: &Field, body: usize, rings: &Rings) -> NodalStress {
+        let m_max = field.u.harmonics.iter().map(|h| h.m as usize).max().unwrap_or(0);
+        let nc = 2 * m_max + 1;
+        let angles: Vec<f64> = (0..nc).map(|j| 2.0 * PI * j as f64 / nc as f64).collect();
+        // Discrete Fourier analysis weights: coefficient q = sum_j w[j][q] s_j.
+        let weights: Vec<Vec<f64>> = angles
+            .iter()
+            .map(|&t| {
+                trig_basis(t, m_max)
+                    .enumerate()
+                    .map(|(q, b)| if q == 0 { 1.0 } else { 2.0 } / nc as f64 * b)
+                    .collect()
+            })
+            .collect();
+        let mut coef = vec![[0.0; 6]; rings.nodes.len() * nc];
+        let mut count = vec![0usize; rings.nodes.len()];
+        for (c, cell) in field.mesh.cells.iter().enumerate().filter(|(_, c)| c.body == body) {
+            let samples: Vec<Vec<[f64; 6]>> = angles.iter().map(|&t| field.cell_node_stress(c, t)).collect();
+            for (i, &node) in cell.nodes.iter().enumerate() {
+                let l = rings.local[node];
+                count[l] += 1;
+                for (sample, w) in samples.iter().zip(&weights) {
+                    let s = sample[i];
+                    for (q, &wq) in w.iter().enumerate() {
+                        for (acc, v) in coef[l * nc + q].iter_mut().zip(s) {
+                            *acc += wq * v;
+                        }
+                    }
+                }
+            }
+        }
+        for (l, &k) in count.iter().enumerate() {
+            for c in &mut coef[l * nc..(l + 1) * nc] {
+                for v in c.iter_mut() {
+                    *v /= k.max(1) as f64;
+                }
+            }
+        }
+        NodalStress { nc, coef }
+    }
+
+    /// Averaged stress of local node `l` at `theta`.
+    fn at(&self, l: usize, theta: f64) -> [f64; 6] {
+        let m_max = (self.nc - 1) / 2;
+        let mut s = [0.0; 6];
+        for (q, basis) in trig_basis(theta, m_max).enumerate() {
+            for (acc, v) in s.iter_mut().zip(self.coef[l * self.nc + q]) {
+                *acc += basis * v;
+            }
+        }
+        s
+    }
+}
+
+/// `1, cos t, sin t, cos 2t, sin 2t, ..., cos Mt, sin Mt`.
+fn trig_basis(t: f64, m_max: usize) -> impl Iterator<Item = f64> {
+    std::iter::once(1.0).chain((1..=m_max).flat_map(move |m| {
+        let (s, c) = (m as f64 * t).sin_cos();
+        [c, s]
+    }))
+}
+
+/// The revolved bodies.
+fn solid_grid(path: &Path, field: &Field, n: usize) -> Result<Grid, ReportError> {
+    let mesh = field.mesh;
+    let mut g = Grid::default();
+    let (mut disp, mut disp_cyl, mut stress, mut cyl, mut vm) = (vec![], vec![], vec![], vec![], vec![]);
+    let (mut body_of, mut cell_of) = (vec![], vec![]);
+    for body in 0..mesh.bodies.len() {
+        let (mut used, mut needs_mid) = (vec![false; mesh.nodes.len()], vec![false; mesh.nodes.len()]);
+        for cell in mesh.cells.iter().filter(|c| c.body == body) {
+            for &node in &cell.nodes {
+                used[node] = true;
+            }
+            for i in mid_ring_nodes(cell.kind) {
+                needs_mid[cell.nodes[i]] = true;
+            }
+        }
+        let nodes: Vec<usize> = (0..mesh.nodes.len()).filter(|&i| used[i]).collect();
+        let mids: Vec<usize> = (0..mesh.nodes.len()).filter(|&i| needs_mid[i]).collect();
+        let rings = Rings::new(n, g.n_points(), mesh.nodes.len(), nodes, mids);
+        let nodal = NodalStress::new(field, body, &rings);
+        for (node, theta) in rings.points() {
+            let x = position(mesh.nodes[node], theta);
+            let u = field.displacement_xyz(node, theta);
+            let uc = field.displacement(node, theta);
+            let s = nodal.at(rings.local[node], theta);
+            let what = || {
+                format!(
+                    "a value at node {} (r = {}, z = {}) of body '{}', theta = {} deg",
+                    node,
+                    mesh.nodes[node][0],
+                    mesh.nodes[node][1],
+                    mesh.bodies[body].name,
+                    theta.to_degrees()
+                )
+            };
+            check_finite(path, &[x.as_slice(), &u, &uc, &s].concat(), what)?;
+            g.points.extend(x);
+            disp.extend(u);
+            disp_cyl.extend(uc);
+            stress.extend(stress_to_cartesian(s, theta));
+            cyl.extend(s);
+            vm.push(von_mises(s));
+        }
+        debug_assert_eq!(g.n_points(), rings.base + rings.len());
+        for (c, cell) in mesh.cells.iter().enumerate().filter(|(_, c)| c.body == body) {
+            let (t, _) = revolved_cell_type(cell.kind);
+            for k in 0..n {
+                g.push_cell(t, &revolve(cell.kind, &cell.nodes, k, &rings));
+                body_of.push(body as i32);
+                cell_of.push(c as i64);
+            }
+        }
+    }
+    g.point_data = vec![
+        Array::f64("displacement", 3, disp),
+        Array::f64("displacement_cyl", 3, disp_cyl).named(&["u_r", "u_z", "u_theta"]),
+        Array::f64("stress", 9, stress),
+        Array::f64("sigma_cyl", 6, cyl).named(&STRESS_NAMES),
+        Array::f64("von_mises", 1, vm),
+    ];
+    g.cell_data = vec![
+        Array {
+            name: "body",
+            components: 1,
+            component_names: &[],
+            values: Values::I32(body_of),
+        },
+        Array {
+            name: "meridional_cell",
+            components: 1,
+            component_names: &[],
+            values: Values::I64(cell_of),
+        },
+    ];
+    Ok(g)
+}
+
+// ---------------------------------------------------------------------------
+// Joints.
+
+/// Joint state code: 0 stick, 1 slip, 2 open.
+pub fn state_code(s: JointState) -> i32 {
+    match s {
+        JointState::Stick => 0,
+        JointState::Slip => 1,
+        JointState::Open => 2,
+    }
+}
+
+/// Maps an angle to a section of the joint field: `(section, mirrored)`.
+struct SectionMap {
+    theta: Vec<f64>,
+    half: bool,
+}
+
+impl SectionMap {
+    fn new(jf: &JointFieldFile) -> SectionMap {
+        let theta: Vec<f64> = jf.sections_deg.iter().map(|d| d.to_radians()).collect();
+        // A half-circle set is recognised by its weights (each interior
+        // section stands for +theta and -theta).
+        let half = Sections::half_circle(theta.clone()).is_ok_and(|s| {
+            s.weight.len() == jf.section_weights.len()
+                && s.weight.iter().zip(&jf.section_weights).all(|(a, b)| (a - b).abs() <= 1e-9 * (1.0 + b.abs()))
+        });
+        SectionMap { theta, half }
+    }
+
+    fn nearest(&self, t: f64) -> (usize, bool) {
+        let t = t.rem_euclid(2.0 * PI);
+        let (t, mirrored) = if self.half && t > PI { (2.0 * PI - t, true) } else { (t, false) };
+        let dist = |a: f64| {
+            if self.half {
+                (a - t).abs()
+            } else {
+                let d = (a - t).rem_euclid(2.0 * PI);
+                d.min(2.0 * PI - d)
+            }
+        };
+        let best = (0..self.theta.len())
+            .min_by(|&a, &b| dist(self.theta[a]).total_cmp(&dist(self.theta[b])))
+            .unwrap_or(0);
+        (best, mirrored)
+    }
+}
+
+/// The revolved joint surfaces.
+fn joint_grid(path: &Path, field: &Field, n: usize, jf: &JointFieldFile) -> Result<Grid, ReportError> {
+    let mesh: &Mesh = field.mesh;
+    let bad = |m: String| ReportError::Input(format!("{}: joint field: {m}", path.display()));
+    if jf.sections_deg.is_empty() || jf.values.len() != jf.sections_deg.len() {
+        return Err(bad(format!(
+            "{} sections, {} rows of values",
+            jf.sections_deg.len(),
+            jf.values.len()
+        )));
+    }
+    if let Some(s) = jf.values.iter().position(|v| v.len() != jf.points.len()) {
+        return Err(bad(format!(
+            "section {s} has {} values for {} points",
+            jf.values[s].len(),
+            jf.points.len()
+        )));
+    }
+    // Integration points of each (joint, element).
+    let mut points_of: Vec<Vec<Vec<usize>>> = mesh.joints.iter().map(|j| vec![vec![]; j.elements.len()]).collect();
+    for (i, p) in jf.points.iter().enumerate() {
+        let j = mesh
+            .joints
+            .iter()
+            .position(|j| j.name == p.joint)
+            .ok_or_else(|| bad(format!("no joint '{}' in the mesh", p.joint)))?;
+        let slot = points_of[j]
+            .get_mut(p.element)
+            .ok_or_else(|| bad(format!("joint '{}' has no element {}", p.joint, p.element)))?;
+        slot.push(i);
+    }
+    let map = SectionMap::new(jf);
+    let mut g = Grid::default();
+    let (mut disp, mut disp_top) = (vec![], vec![]);
+    let mut cd = JointCellData::default();
+    for (j, joint) in mesh.joints.iter().enumerate() {
+        // Rings of the bottom-face nodes; top partners for the displacement.
+        let mut top_of = vec![usize::MAX; mesh.nodes.len()];
+        let (mut used, mut needs_mid) = (vec![false; mesh.nodes.len()], vec![false; mesh.nodes.len()]);
+        for e in &joint.elements {
+            for (&b, &t) in e.bottom.iter().zip(&e.top) {
+                used[b] = true;
+                top_of[b] = t;
+            }
+            if e.kind == JointKind::Lin6 {
+                for &b in &e.bottom {
+                    needs_mid[b] = true;
+                }
+            }
+        }
+        let nodes: Vec<usize> = (0..mesh.nodes.len()).filter(|&i| used[i]).collect();
+        let mids: Vec<usize> = (0..mesh.nodes.len()).filter(|&i| needs_mid[i]).collect();
+        let rings = Rings::new(n, g.n_points(), mesh.nodes.len(), nodes, mids);
+        for (node, theta) in rings.points() {
+            let x = position(mesh.nodes[node], theta);
+            let ub = field.displacement_xyz(node, theta);
+            let ut = field.displacement_xyz(top_of[node], theta);
+            check_finite(path, &[x.as_slice(), &ub, &ut].concat(), || {
+                format!("a displacement on joint '{}' at theta = {} deg", joint.name, theta.to_degrees())
+            })?;
+            g.points.extend(x);
+            disp.extend(ub);
+            disp_top.extend(ut);
+        }
+        for (e, el) in joint.elements.iter().enumerate() {
+            let b = &el.bottom;
+            for k in 0..n {
+                let (lo, hi) = (|i: usize| rings.at(b[i], k), |i: usize| rings.at(b[i], k + 1));
+                match el.kind {
+                    JointKind::Lin4 => g.push_cell(cell_type::QUAD, &[lo(0), lo(1), hi(1), hi(0)]),
+                    JointKind::Lin6 => {
+                        let mid = |i: usize| rings.mid(b[i], k);
+                        g.push_cell(
+                            cell_type::BIQUADRATIC_QUAD,
+                            &[lo(0), lo(1), hi(1), hi(0), lo(2), mid(1), hi(2), mid(0), mid(2)],
+                        );
+                    }
+                }
+                let (section, mirrored) = map.nearest(mid_angle(k, n));
+                cd.push(path, jf, &points_of[j][e], section, mirrored, j, e, &joint.name)?;
+            }
+        }
+    }
+    g.point_data = vec![
+        Array::f64("displacement", 3, disp),
+        Array::f64("displacement_top", 3, disp_top),
+    ];
+    g.cell_data = cd.into_arrays();
+    Ok(g)
+}
+
+/// Cell data of the joint file.
+#[derive(Default)]
+struct JointCellData {
+    state: Vec<i32>,
+    open_fraction: Vec<f64>,
+    slip_fraction: Vec<f64>,
+    opening: Vec<f64>,
+    slip: Vec<f64>,
+    sigma_n: Vec<f64>,
+    tau_xi: Vec<f64>,
+    tau_theta: Vec<f64>,
+    d: Vec<f64>,
+    section_deg: Vec<f64>,
+    joint: Vec<i32>,
+    element: Vec<i32>,
+}
+
+impl JointCellData {
+    /// Adds the cell of element `e` of joint `j` at `section`.
+    #[allow(clippy::too_many_arguments)]
+    fn push(
+        &mut self,
+        path: &Path,
+        jf: &JointFieldFile,
+        points: &[usize],
+        section: usize,
+        mirrored: bool,
+        j: usize,
+        e: usize,
+        name: &str,
+    ) -> Result<(), ReportError> {
+        let values = &jf.values[section];
+        let total_da: f64 = points.iter().map(|&i| jf.points[i].da.max(0.0)).sum();
+        let weight = |i: usize| {
+            if total_da > 0.0 {
+                jf.points[i].da.max(0.0) / total_da
+            } else {
+                1.0 / points.len().max(1) as f64
+            }
+        };
+        let mut share = [0.0; 3];
+        let (mut opening, mut slip) = (0.0, 0.0);
+        let (mut p, mut d) = ([0.0; 3], [0.0; 3]);
+        for &i in points {
+            let (v, w) = (&values[i], weight(i));
+            share[state_code(v.state) as usize] += w;
+            opening += w * v.opening;
+            slip += w * v.slip;
+            for a in 0..3 {
+                p[a] += w * v.p[a];
+                d[a] += w * v.d[a];
+            }
+        }
+        if mirrored {
+            p[2] = -p[2];
+            d[2] = -d[2];
+        }
+        check_finite(path, &[opening, slip, p[0], p[1], p[2], d[0], d[1], d[2]], || {
+            format!(
+                "a value of joint '{name}', element {e}, section {} deg",
+                jf.sections_deg[section]
+            )
+        })?;
+        // Largest share; ties to the more severe state.
+        let state = (0..3).rev().max_by(|&a, &b| share[a].total_cmp(&share[b])).unwrap_or(0);
+        self.state.push(if points.is_empty() { 0 } else { state as i32 });
+        self.open_fraction.push(share[2]);
+        self.slip_fraction.push(share[1]);
+        self.opening.push(opening);
+        self.slip.push(slip);
+        self.sigma_n.push(p[1]);
+        self.tau_xi.push(p[0]);
+        self.tau_theta.push(p[2]);
+        self.d.extend(d);
+        self.section_deg.push(jf.sections_deg[section]);
+        self.joint.push(j as i32);
+        self.element.push(e as i32);
+        Ok(())
+    }
+
+    fn into_arrays(self) -> Vec<Array> {
+        let int = |name, v| Array {
+            name,
+            components: 1,
+            component_names: &[],
+            values: Values::I32(v),
+        };
+        vec![
+            int("state", self.state),
+            Array::f64("opening", 1, self.opening),
+            Array::f64("slip", 1, self.slip),
+            Array::f64("sigma_n", 1, self.sigma_n),
+            Array::f64("tau_xi", 1, self.tau_xi),
+            Array::f64("tau_theta", 1, self.tau_theta),
+            Array::f64("d", 3, self.d).named(&["d_xi", "d_eta", "d_theta"]),
+            Array::f64("open_fraction", 1, self.open_fraction),
+            Array::f64("slip_fraction", 1, self.slip_fraction),
+            Array::f64("section_deg", 1, self.section_deg),
+            int("joint", self.joint),
+            int("element", self.element),
+        ]
+    }
+}

@@ -1,0 +1,364 @@
+//! Plots read back by independent readers: the SVG parsed as XML
+//! (roxmltree), the PNG decoded (png).
+//!
+//! What plotters emits, and these tests rely on: one `<text>` per string
+//! drawn (title, axis titles, tick labels, legend labels), one `<polyline>`
+//! per path. Grid, axis and tick lines are polylines of stroke-width 1; the
+//! data lines are the only polylines of stroke-width [`LINE_WIDTH`] (2): one
+//! per non-empty series in the plot (as many points as the series) and one
+//! of two points as its legend sample. Joint-map cells are filled `<rect>`s.
+
+use axijoint_report::plots::{
+    plot_convergence, plot_joint_map, plot_profile, Series, LINE_WIDTH, PALETTE, SIZE, STATE_COLORS, STATE_LABELS,
+};
+use axijoint_report::ReportError;
+use axijoint_solver::joint_law::JointState;
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+
+fn hex((r, g, b): (u8, u8, u8)) -> String {
+    format!("#{r:02X}{g:02X}{b:02X}")
+}
+
+/// The files of `dir`, sorted.
+fn listing(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
+
+fn paths(dir: &Path, stem: &str) -> (PathBuf, PathBuf) {
+    (dir.join(format!("{stem}.svg")), dir.join(format!("{stem}.png")))
+}
+
+/// A parsed SVG: its text strings and its data polylines.
+struct Svg {
+    texts: BTreeSet<String>,
+    /// (stroke colour upper case, dashed, number of points) of each polyline
+    /// of the data stroke width.
+    lines: Vec<(String, bool, usize)>,
+    /// Fill colour (upper case) of each filled rectangle.
+    rect_fills: Vec<String>,
+}
+
+fn read_svg(path: &Path) -> Svg {
+    let text = std::fs::read_to_string(path).unwrap();
+    let doc = roxmltree::Document::parse(&text).expect("the SVG is well-formed XML");
+    let root = doc.root_element();
+    assert_eq!(root.tag_name().name(), "svg");
+    assert_eq!(root.attribute("width"), Some(SIZE.0.to_string().as_str()));
+    assert_eq!(root.attribute("height"), Some(SIZE.1.to_string().as_str()));
+    assert!(!text.contains("NaN") && !text.contains("inf"), "no NaN or infinity in the SVG");
+    let mut texts = BTreeSet::new();
+    let mut lines = Vec::new();
+    let mut rect_fills = Vec::new();
+    let width = LINE_WIDTH.to_string();
+    for n in root.descendants().filter(|n| n.is_element()) {
+        match n.tag_name().name() {
+            "text" => {
+                texts.insert(n.text().unwrap_or("").trim().to_owned());
+            }
+            "polyline" => {
+                let w = n.attribute("stroke-width").unwrap();
+                assert!(w == "1" || w == width, "unexpected stroke width {w}");
+                if w == width {
+                    let points = n.attribute("points").unwrap().split_whitespace().count();
+                    let dashed = n.attribute("stroke-dasharray").is_some();
+                    lines.push((n.attribute("stroke").unwrap().to_uppercase(), dashed, points));
+                }
+            }
+            "rect" if n.attribute("fill") != Some("none") => {
+                rect_fills.push(n.attribute("fill").unwrap().to_uppercase());
+            }
+            _ => {}
+        }
+    }
+    Svg {
+        texts,
+        lines,
+        rect_fills,
+    }
+}
+
+/// Decodes an RGB(A) PNG: (width, height, pixels as RGB).
+fn read_png(path: &Path) -> (u32, u32, Vec<[u8; 3]>) {
+    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
+    let mut reader = decoder.read_info().unwrap();
+    let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    let channels = match info.color_type {
+        png::ColorType::Rgb => 3,
+        png::ColorType::Rgba => 4,
+        other => panic!("unexpected PNG colour type {other:?}"),
+    };
+    assert_eq!(info.bit_depth, png::BitDepth::Eight);
+    let pixels = buf[..info.buffer_size()]
+        .chunks_exact(channels)
+        .map(|c| [c[0], c[1], c[2]])
+        .collect();
+    (info.width, info.height, pixels)
+}
+
+/// Checks the PNG's size and that it is not blank; returns its pixels.
+fn check_png(path: &Path) -> Vec<[u8; 3]> {
+    let (w, h, px) = read_png(path);
+    assert_eq!((w, h), SIZE);
+    assert!(px.iter().any(|p| *p != px[0]), "not all pixels the same colour");
+    let dark = px.iter().filter(|p| p.iter().map(|&c| u32::from(c)).sum::<u32>() < 200).count();
+    assert!(dark > 2000, "text and axes give dark pixels, found {dark}");
+    px
+}
+
+fn count_color(px: &[[u8; 3]], (r, g, b): (u8, u8, u8)) -> usize {
+    px.iter().filter(|p| **p == [r, g, b]).count()
+}
+
+fn series(label: &str, n: usize, dashed: bool, color: usize, x0: f64, f: impl Fn(f64) -> f64) -> Series {
+    Series {
+        label: label.to_owned(),
+        points: (0..n)
+            .map(|i| {
+                let x = x0 + i as f64 * 0.1;
+                (x, f(x))
+            })
+            .collect(),
+        dashed,
+        color,
+    }
+}
+
+#[test]
+fn profile_svg_and_png() {
+    let dir = tempfile::tempdir().unwrap();
+    let (svg, png) = paths(dir.path(), "cut_a_theta180");
+    let all = vec![
+        series("with joint, pile", 6, false, 0, 0.0, |x| -2.0 + x),
+        series("with joint, footing", 26, false, 1, 0.5, |_| 0.0),
+        series("without joint, pile", 7, true, 0, 0.0, |x| -1.5 + x),
+        series("without joint, footing", 25, true, 1, 0.6, |x| 0.8 / x),
+        series("empty, skipped", 0, false, 2, 0.0, |x| x),
+    ];
+    plot_profile(&svg, &png, "Cut a-a, theta = 180 deg", "r (m)", "sigma_z (MPa)", &all).unwrap();
+    assert_eq!(listing(dir.path()), ["cut_a_theta180.png", "cut_a_theta180.svg"]);
+
+    let doc = read_svg(&svg);
+    for t in ["Cut a-a, theta = 180 deg", "r (m)", "sigma_z (MPa)"] {
+        assert!(doc.texts.contains(t), "text {t:?} in {:?}", doc.texts);
+    }
+    for s in &all[..4] {
+        assert!(doc.texts.contains(&s.label), "legend label {:?}", s.label);
+    }
+    assert!(!doc.texts.contains("empty, skipped"));
+    assert_eq!(doc.lines.len(), 2 * 4, "a line and a legend sample per non-empty series");
+    for s in &all[..4] {
+        let key = (hex(PALETTE[s.color]), s.dashed);
+        let mine: Vec<usize> = doc
+            .lines
+            .iter()
+            .filter(|l| (l.0.clone(), l.1) == key)
+            .map(|l| l.2)
+            .collect();
+        assert_eq!(mine, [s.points.len(), 2], "series {:?}: its line, then its legend sample", s.label);
+    }
+
+    let px = check_png(&png);
+    assert!(count_color(&px, PALETTE[0]) > 100, "blue lines drawn");
+    assert!(count_color(&px, PALETTE[1]) > 100, "vermillion lines drawn");
+    assert_eq!(count_color(&px, PALETTE[2]), 0, "the empty series draws nothing");
+}
+
+#[test]
+fn single_point_and_empty_profiles_draw() {
+    let dir = tempfile::tempdir().unwrap();
+    let (svg, png) = paths(dir.path(), "p");
+    let one = vec![series("one point", 1, false, 3, 1.0, |_| 2.0)];
+    plot_profile(&svg, &png, "One point", "x (m)", "y (MPa)", &one).unwrap();
+    let doc = read_svg(&svg);
+    assert_eq!(doc.lines.iter().map(|l| l.2).collect::<Vec<_>>(), [1, 2]);
+    assert!(count_color(&check_png(&png), PALETTE[3]) > 20, "a dot for the point");
+
+    plot_profile(&svg, &png, "Nothing", "x (m)", "y (MPa)", &[]).unwrap();
+    let doc = read_svg(&svg);
+    assert!(doc.texts.contains("Nothing") && doc.lines.is_empty());
+    check_png(&png);
+    assert_eq!(listing(dir.path()), ["p.png", "p.svg"], "replaced in place, nothing left over");
+}
+
+#[test]
+fn convergence_svg_and_png() {
+    let dir = tempfile::tempdir().unwrap();
+    let (svg, png) = paths(dir.path(), "convergence");
+    let decay = |n: u32, rate: f64| -> Vec<(u32, f64)> { (1..=n).map(|i| (i, rate.powi(i as i32 - 1))).collect() };
+    let mut exact = decay(12, 0.5);
+    exact.push((13, 0.0)); // a zero residual: drawn on the bottom edge
+    let runs = vec![
+        ("frictionless".to_owned(), decay(40, 0.85)),
+        ("no slip".to_owned(), exact),
+        ("not run".to_owned(), vec![]),
+    ];
+    plot_convergence(&svg, &png, "Convergence of the residual ratio", &runs).unwrap();
+    assert_eq!(listing(dir.path()), ["convergence.png", "convergence.svg"]);
+
+    let doc = read_svg(&svg);
+    for t in ["Convergence of the residual ratio", "frictionless", "no slip", "iteration"] {
+        assert!(doc.texts.contains(t), "text {t:?} in {:?}", doc.texts);
+    }
+    assert!(!doc.texts.contains("not run"));
+    // 0.85^39 = 1.8e-3 and 0.5^11 = 4.9e-4: decades 1e-4 .. 1, one lower for the zero.
+    assert!(doc.texts.contains("1e-5") && doc.texts.contains("1"), "{:?}", doc.texts);
+    assert!(!doc.texts.contains("1e-6"));
+    assert_eq!(doc.lines.len(), 4);
+    for (k, (_, pts)) in runs[..2].iter().enumerate() {
+        let mine: Vec<usize> = doc.lines.iter().filter(|l| l.0 == hex(PALETTE[k])).map(|l| l.2).collect();
+        assert_eq!(mine, [pts.len(), 2]);
+    }
+    assert!(doc.lines.iter().all(|l| !l.1), "convergence lines are solid");
+
+    let px = check_png(&png);
+    assert!(count_color(&px, PALETTE[0]) > 100 && count_color(&px, PALETTE[1]) > 100);
+}
+
+#[test]
+fn joint_map_svg_and_png() {
+    use JointState::{Open, Slip, Stick};
+    let dir = tempfile::tempdir().unwrap();
+    let (svg, png) = paths(dir.path(), "joint_side");
+    let s: Vec<f64> = (0..10).map(|i| 0.05 + 0.1 * f64::from(i)).collect();
+    let theta = [0.0, 45.0, 90.0, 135.0, 180.0];
+    let states = vec![
+        vec![Stick; 10],
+        [vec![Stick; 4], vec![Slip; 6]].concat(),
+        [vec![Slip; 3], vec![Stick; 2], vec![Slip; 5]].concat(),
+        [vec![Open; 5], vec![Slip; 5]].concat(),
+        vec![Open; 10],
+    ];
+    plot_joint_map(&svg, &png, "Joint pile side: states", &s, &theta, &states).unwrap();
+    assert_eq!(listing(dir.path()), ["joint_side.png", "joint_side.svg"]);
+
+    let doc = read_svg(&svg);
+    for t in ["Joint pile side: states", "theta (deg)", "0", "45", "90", "135", "180"] {
+        assert!(doc.texts.contains(t), "text {t:?} in {:?}", doc.texts);
+    }
+    for label in STATE_LABELS {
+        assert!(doc.texts.contains(label), "legend label {label}");
+    }
+    // Runs of equal states: stick 1 + 1 + 1, slip 1 + 2 + 1, open 1 + 1; plus a legend box each.
+    for ((_, c), runs) in STATE_COLORS.iter().zip([3, 4, 2]) {
+        let n = doc.rect_fills.iter().filter(|f| **f == hex(*c)).count();
+        assert_eq!(n, runs + 1, "cells of colour {}", hex(*c));
+    }
+
+    let px = check_png(&png);
+    for (state, c) in STATE_COLORS {
+        assert!(count_color(&px, c) > 500, "{state:?} cells drawn");
+    }
+}
+
+#[test]
+fn non_finite_and_bad_shapes_are_refused_and_nothing_is_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let (svg, png) = paths(dir.path(), "bad");
+    let mut s = series("pile", 5, false, 0, 0.0, |x| x);
+    s.points[3].1 = f64::NAN;
+    let e = plot_profile(&svg, &png, "t", "x", "y", &[s]).unwrap_err();
+    assert!(matches!(e, ReportError::NotFinite { .. }), "{e}");
+    let mut s = series("pile", 5, false, 0, 0.0, |x| x);
+    s.points[0].0 = f64::INFINITY;
+    assert!(matches!(
+        plot_profile(&svg, &png, "t", "x", "y", &[s]),
+        Err(ReportError::NotFinite { .. })
+    ));
+
+    let runs = vec![("a".to_owned(), vec![(1, 1.0), (2, f64::NAN)])];
+    assert!(matches!(
+        plot_convergence(&svg, &png, "t", &runs),
+        Err(ReportError::NotFinite { .. })
+    ));
+    let runs = vec![("a".to_owned(), vec![(1, 1.0), (2, f64::NEG_INFINITY)])];
+    assert!(matches!(
+        plot_convergence(&svg, &png, "t", &runs),
+        Err(ReportError::NotFinite { .. })
+    ));
+
+    let st = vec![vec![JointState::Stick; 2]; 2];
+    assert!(matches!(
+        plot_joint_map(&svg, &png, "t", &[0.0, f64::NAN], &[0.0, 90.0], &st),
+        Err(ReportError::NotFinite { .. })
+    ));
+    assert!(matches!(
+        plot_joint_map(&svg, &png, "t", &[0.0, 1.0], &[0.0, f64::INFINITY], &st),
+        Err(ReportError::NotFinite { .. })
+    ));
+    for (s, theta) in [(&[0.0, 1.0, 2.0][..], &[0.0, 90.0][..]), (&[0.0, 1.0], &[0.0, 90.0, 180.0]), (&[1.0, 0.0], &[0.0, 90.0])] {
+        assert!(matches!(
+            plot_joint_map(&svg, &png, "t", s, theta, &st),
+            Err(ReportError::Input(_))
+        ));
+    }
+    assert!(listing(dir.path()).is_empty(), "no file left behind: {:?}", listing(dir.path()));
+}
+
+/// Renders sample plots into `$AXIJOINT_PLOTS_DIR` for a look by eye:
+/// `AXIJOINT_PLOTS_DIR=/tmp/plots cargo test -p axijoint-report --test plots -- --ignored`.
+#[test]
+#[ignore = "writes sample plots for review"]
+fn render_samples_for_review() {
+    let dir = PathBuf::from(std::env::var("AXIJOINT_PLOTS_DIR").expect("set AXIJOINT_PLOTS_DIR"));
+    std::fs::create_dir_all(&dir).unwrap();
+    let a = 0.5;
+    let sample = |label: &str, from: f64, to: f64, dashed: bool, color: usize, f: &dyn Fn(f64) -> f64| Series {
+        label: label.to_owned(),
+        points: (0..=50)
+            .map(|i| from + (to - from) * f64::from(i) / 50.0)
+            .map(|r| (r, f(r)))
+            .collect(),
+        dashed,
+        color,
+    };
+    let prof = vec![
+        sample("with joint, pile", 0.0, a, false, 0, &|r| -1.2 + 2.6 * r),
+        sample("with joint, footing", a, 3.0, false, 1, &|_| 0.0),
+        sample("without joint, pile", 0.0, a, true, 0, &|r| -0.9 + 2.2 * r),
+        sample("without joint, footing", a, 3.0, true, 1, &|r| 0.55 * (a / r).powi(2)),
+    ];
+    let (svg, png) = paths(&dir, "profile");
+    plot_profile(&svg, &png, "Cut a-a (z = 0.75 m), theta = 180 deg", "r (m)", "sigma_z (MPa)", &prof).unwrap();
+
+    let runs: Vec<(String, Vec<(u32, f64)>)> = vec![
+        (
+            "frictionless (C = 0, phi = 0)".into(),
+            (1..=60).map(|i| (i, (1.0 - 0.04 * f64::from(i)).max(0.2 / (1.0 + 0.05 * f64::from(i - 20))))).collect(),
+        ),
+        (
+            "no slip (C = 2.0, phi = 30)".into(),
+            (1..=25).map(|i| (i, (1.0 - 0.045 * f64::from(i)).max(0.17 / (1.0 + 0.3 * f64::from(i - 18))))).collect(),
+        ),
+    ];
+    let (svg, png) = paths(&dir, "convergence");
+    plot_convergence(&svg, &png, "Residual ratio (Fig. 8)", &runs).unwrap();
+
+    use JointState::{Open, Slip, Stick};
+    let s: Vec<f64> = (0..20).map(|i| 0.025 + 0.05 * f64::from(i)).collect();
+    let theta = [0.0, 45.0, 90.0, 135.0, 180.0];
+    let states: Vec<Vec<JointState>> = theta
+        .iter()
+        .map(|&t: &f64| {
+            s.iter()
+                .map(|&x| {
+                    if t > 100.0 && x < 0.7 {
+                        Open
+                    } else if t > 40.0 && x > 0.4 {
+                        Slip
+                    } else {
+                        Stick
+                    }
+                })
+                .collect()
+        })
+        .collect();
+    let (svg, png) = paths(&dir, "joint_map");
+    plot_joint_map(&svg, &png, "Joint 'pile_side' (s in m)", &s, &theta, &states).unwrap();
+}
