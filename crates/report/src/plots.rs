@@ -19,10 +19,12 @@
 
 use crate::ReportError;
 use axijoint_solver::joint_law::JointState;
+use ab_glyph::{Font, FontRef, ScaleFont};
 use plotters::coord::Shift;
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
+use plotters_backend::{BackendColor, BackendCoord, BackendStyle, BackendTextStyle, DrawingErrorKind};
 use std::path::Path;
 use std::sync::OnceLock;
 
@@ -242,7 +244,8 @@ fn write_figure(fig: &impl Figure, svg: &Path, png: &Path) -> Result<(), ReportE
     let (w, h) = SIZE;
     let mut rgb = vec![255u8; w as usize * h as usize * 3];
     {
-        let root = BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area();
+        let bitmap = BitMapBackend::with_buffer(&mut rgb, SIZE);
+        let root = Smooth::new(bitmap).map_err(|e| ReportError::write(png, e))?.into_drawing_area();
         fig.draw(&root, false).map_err(|e| ReportError::write(png, e))?;
         root.present().map_err(|e| ReportError::write(png, e))?;
     }
@@ -292,6 +295,206 @@ fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), ReportError> {
         return Err(ReportError::write(path, e));
     }
     Ok(())
+}
+
+/// A bitmap backend drawing anti-aliased paths and text with the embedded
+/// font, glyphs placed by their own bearings (plotters' bitmap text drops
+/// the left bearing, which spaces letters unevenly). Anything else is drawn
+/// by the wrapped backend.
+struct Smooth<B> {
+    inner: B,
+    font: &'static FontRef<'static>,
+}
+
+impl<B: DrawingBackend> Smooth<B> {
+    fn new(inner: B) -> Result<Self, &'static str> {
+        static FONT_REF: OnceLock<Option<FontRef<'static>>> = OnceLock::new();
+        let font = FONT_REF
+            .get_or_init(|| FontRef::try_from_slice(FONT_BYTES).ok())
+            .as_ref()
+            .ok_or("the embedded font could not be loaded")?;
+        Ok(Smooth { inner, font })
+    }
+
+    /// Blends `color` at coverage `cov` into each pixel.
+    fn blend(&mut self, pixels: Vec<((i32, i32), f32)>, color: BackendColor) -> Result<(), DrawingErrorKind<B::ErrorType>> {
+        for (p, cov) in pixels {
+            if cov > 0.0 {
+                let c = BackendColor {
+                    alpha: color.alpha * f64::from(cov.min(1.0)),
+                    rgb: color.rgb,
+                };
+                self.inner.draw_pixel(p, c)?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Coverage of the pixels within `width / 2` of the polyline `path` (pixel
+/// centres at integer coordinates, as the backend's), each pixel counted
+/// once with its largest coverage.
+fn stroke_coverage(path: &[(i32, i32)], width: f64, (w, h): (u32, u32)) -> Vec<((i32, i32), f32)> {
+    let half = 0.5 * width.max(1.0);
+    let mut cov: std::collections::HashMap<(i32, i32), f32> = std::collections::HashMap::new();
+    for seg in path.windows(2) {
+        let (a, b) = (seg[0], seg[1]);
+        let (ax, ay, bx, by) = (f64::from(a.0), f64::from(a.1), f64::from(b.0), f64::from(b.1));
+        let reach = half + 1.0;
+        let x0 = (ax.min(bx) - reach).floor().max(0.0) as i32;
+        let x1 = (ax.max(bx) + reach).ceil().min(f64::from(w) - 1.0) as i32;
+        let y0 = (ay.min(by) - reach).floor().max(0.0) as i32;
+        let y1 = (ay.max(by) + reach).ceil().min(f64::from(h) - 1.0) as i32;
+        let (dx, dy) = (bx - ax, by - ay);
+        let len2 = dx * dx + dy * dy;
+        for y in y0..=y1 {
+            for x in x0..=x1 {
+                let (px, py) = (f64::from(x) - ax, f64::from(y) - ay);
+                let t = if len2 > 0.0 {
+                    ((px * dx + py * dy) / len2).clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
+                let d = (px - t * dx).hypot(py - t * dy);
+                let c = (half + 0.5 - d).clamp(0.0, 1.0) as f32;
+                if c > 0.0 {
+                    let e = cov.entry((x, y)).or_insert(0.0);
+                    *e = e.max(c);
+                }
+            }
+        }
+    }
+    cov.into_iter().collect()
+}
+
+impl<B: DrawingBackend> DrawingBackend for Smooth<B> {
+    type ErrorType = B::ErrorType;
+
+    fn get_size(&self) -> (u32, u32) {
+        self.inner.get_size()
+    }
+
+    fn ensure_prepared(&mut self) -> Result<(), DrawingErrorKind<B::ErrorType>> {
+        self.inner.ensure_prepared()
+    }
+
+    fn present(&mut self) -> Result<(), DrawingErrorKind<B::ErrorType>> {
+        self.inner.present()
+    }
+
+    fn draw_pixel(&mut self, point: BackendCoord, color: BackendColor) -> Result<(), DrawingErrorKind<B::ErrorType>> {
+        self.inner.draw_pixel(point, color)
+    }
+
+    fn draw_line<S: BackendStyle>(
+        &mut self,
+        from: BackendCoord,
+        to: BackendCoord,
+        style: &S,
+    ) -> Result<(), DrawingErrorKind<B::ErrorType>> {
+        self.draw_path([from, to], style)
+    }
+
+    fn draw_rect<S: BackendStyle>(
+        &mut self,
+        upper_left: BackendCoord,
+        bottom_right: BackendCoord,
+        style: &S,
+        fill: bool,
+    ) -> Result<(), DrawingErrorKind<B::ErrorType>> {
+        self.inner.draw_rect(upper_left, bottom_right, style, fill)
+    }
+
+    fn draw_path<S: BackendStyle, I: IntoIterator<Item = BackendCoord>>(
+        &mut self,
+        path: I,
+        style: &S,
+    ) -> Result<(), DrawingErrorKind<B::ErrorType>> {
+        if style.color().alpha == 0.0 {
+            return Ok(());
+        }
+        let path: Vec<_> = path.into_iter().collect();
+        let pixels = stroke_coverage(&path, f64::from(style.stroke_width()), self.get_size());
+        self.blend(pixels, style.color())
+    }
+
+    fn draw_circle<S: BackendStyle>(
+        &mut self,
+        center: BackendCoord,
+        radius: u32,
+        style: &S,
+        fill: bool,
+    ) -> Result<(), DrawingErrorKind<B::ErrorType>> {
+        self.inner.draw_circle(center, radius, style, fill)
+    }
+
+    fn fill_polygon<S: BackendStyle, I: IntoIterator<Item = BackendCoord>>(
+        &mut self,
+        vert: I,
+        style: &S,
+    ) -> Result<(), DrawingErrorKind<B::ErrorType>> {
+        self.inner.fill_polygon(vert, style)
+    }
+
+    fn draw_text<T: BackendTextStyle>(
+        &mut self,
+        text: &str,
+        style: &T,
+        pos: BackendCoord,
+    ) -> Result<(), DrawingErrorKind<B::ErrorType>> {
+        let color = style.color();
+        if color.alpha == 0.0 {
+            return Ok(());
+        }
+        let font = self.font.as_scaled(style.size() as f32);
+        let mut pen = 0.0f32;
+        let mut prev = None;
+        let mut glyphs = Vec::with_capacity(text.len());
+        for c in text.chars() {
+            let id = font.glyph_id(c);
+            if let Some(p) = prev {
+                pen += font.kern(p, id);
+            }
+            glyphs.push((id, pen));
+            pen += font.h_advance(id);
+            prev = Some(id);
+        }
+        let anchor = style.anchor();
+        let dx = match anchor.h_pos {
+            HPos::Left => 0.0,
+            HPos::Center => -0.5 * pen,
+            HPos::Right => -pen,
+        };
+        let (ascent, descent) = (font.ascent(), font.descent());
+        let baseline = match anchor.v_pos {
+            VPos::Top => ascent,
+            VPos::Center => 0.5 * (ascent + descent),
+            VPos::Bottom => descent,
+        };
+        let trans = style.transform();
+        let mut pixels = Vec::new();
+        for (id, x) in glyphs {
+            let glyph = id.with_scale_and_position(font.scale(), ab_glyph::point(x + dx, baseline));
+            if let Some(outline) = self.font.outline_glyph(glyph) {
+                let min = outline.px_bounds().min;
+                outline.draw(|gx, gy, c| {
+                    let (lx, ly) = (min.x as i32 + gx as i32, min.y as i32 + gy as i32);
+                    let (tx, ty) = trans.transform(lx, ly);
+                    pixels.push(((pos.0 + tx, pos.1 + ty), c));
+                });
+            }
+        }
+        self.blend(pixels, color)
+    }
+
+    fn blit_bitmap(
+        &mut self,
+        pos: BackendCoord,
+        size: (u32, u32),
+        src: &[u8],
+    ) -> Result<(), DrawingErrorKind<B::ErrorType>> {
+        self.inner.blit_bitmap(pos, size, src)
+    }
 }
 
 fn err(e: impl std::fmt::Display) -> String {
@@ -396,20 +599,19 @@ fn draw_legend<DB: DrawingBackend>(
     let style = font(LEGEND_SIZE).pos(Pos::new(HPos::Left, VPos::Center));
     for (k, e) in entries.iter().enumerate() {
         let y = yr.start + 40 + k as i32 * step;
-        match e.mark {
+        let text_x = match e.mark {
             Mark::Line { color, dashed } => {
                 draw_path(root, vec![(x, y), (x + SAMPLE, y)], color, dashed, svg)?;
+                x + SAMPLE + 10
             }
             Mark::Box(color) => {
                 let h = LEGEND_SIZE as i32 / 2;
-                root.draw(&Rectangle::new(
-                    [(x + SAMPLE / 2 - h - 2, y - h), (x + SAMPLE / 2 + h + 2, y + h)],
-                    color.filled(),
-                ))
-                .map_err(err)?;
+                root.draw(&Rectangle::new([(x, y - h), (x + 3 * h, y + h)], color.filled()))
+                    .map_err(err)?;
+                x + 3 * h + 10
             }
-        }
-        root.draw(&Text::new(e.label, (x + SAMPLE + 10, y), style.clone()))
+        };
+        root.draw(&Text::new(e.label, (text_x, y), style.clone()))
             .map_err(err)?;
     }
     Ok(())
@@ -439,6 +641,14 @@ fn draw_path<DB: DrawingBackend>(
     }
 }
 
+/// Draws `title` centred at the top of `root`; returns the area below it.
+fn titled<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, title: &str) -> Result<DrawingArea<DB, Shift>, String> {
+    let (w, _) = root.dim_in_pixel();
+    let style = font(TITLE_SIZE).pos(Pos::new(HPos::Center, VPos::Top));
+    root.draw(&Text::new(title, (w as i32 / 2, 12), style)).map_err(err)?;
+    Ok(root.margin(12 + TITLE_SIZE as i32 + 12, 0, 0, 0))
+}
+
 fn chart_builder<'a, 'b, DB: DrawingBackend>(area: &'a DrawingArea<DB, Shift>) -> ChartBuilder<'a, 'b, DB> {
     let mut b = ChartBuilder::on(area);
     b.margin_top(10)
@@ -460,7 +670,7 @@ struct Profile<'a> {
 impl Figure for Profile<'_> {
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>, svg: bool) -> Result<(), String> {
         root.fill(&WHITE).map_err(err)?;
-        let body = root.titled(self.title, font(TITLE_SIZE)).map_err(err)?;
+        let body = titled(root, self.title)?;
         let shown: Vec<&Series> = self.series.iter().filter(|s| !s.points.is_empty()).collect();
         let entries: Vec<Entry> = shown
             .iter()
@@ -510,7 +720,7 @@ struct Convergence<'a> {
 impl Figure for Convergence<'_> {
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>, svg: bool) -> Result<(), String> {
         root.fill(&WHITE).map_err(err)?;
-        let body = root.titled(self.title, font(TITLE_SIZE)).map_err(err)?;
+        let body = titled(root, self.title)?;
         let shown: Vec<(usize, &(String, Vec<(u32, f64)>))> =
             self.runs.iter().enumerate().filter(|(_, r)| !r.1.is_empty()).collect();
         let entries: Vec<Entry> = shown
@@ -525,8 +735,7 @@ impl Figure for Convergence<'_> {
             .collect();
         let (plot, panel) = split_legend(&body, &entries)?;
         let all = || shown.iter().flat_map(|(_, r)| r.1.iter().copied());
-        let (i0, i1) = extent(all().map(|p| f64::from(p.0))).unwrap_or((0.0, 1.0));
-        let (i0, i1) = (i0 as u32, (i1 as u32).max(i0 as u32 + 1));
+        let (i0, i1) = (0, all().map(|p| p.0).max().unwrap_or(1).max(1));
         let positive = extent(all().map(|p| p.1).filter(|&r| r > 0.0));
         let any_clipped = all().any(|p| p.1 <= 0.0);
         let (y0, y1) = log_range(positive, any_clipped);
@@ -537,12 +746,25 @@ impl Figure for Convergence<'_> {
             .configure_mesh()
             .x_desc("iteration")
             .y_desc("residual ratio (log scale)")
-            .y_label_formatter(&|v| tick(*v))
+            .disable_y_mesh()
+            .y_labels(0)
             .axis_desc_style(font(DESC_SIZE))
             .label_style(font(TICK_SIZE))
+            // plotters still labels a decade of a log axis: hidden, ours below
+            .y_label_style(font(TICK_SIZE).color(&TRANSPARENT))
             .max_light_lines(1)
             .draw()
             .map_err(err)?;
+        // Decades (and 2, 5 times them over a short range) with grid lines.
+        let x_end = chart.backend_coord(&(i1, y0)).0;
+        let label = font(TICK_SIZE).pos(Pos::new(HPos::Right, VPos::Center));
+        for (v, decade) in log_ticks(y0, y1) {
+            let (px, py) = chart.backend_coord(&(i0, v));
+            let grid = BLACK.mix(if decade { 0.3 } else { 0.12 });
+            root.draw(&PathElement::new(vec![(px, py), (x_end, py)], grid)).map_err(err)?;
+            root.draw(&PathElement::new(vec![(px - 6, py), (px, py)], BLACK)).map_err(err)?;
+            root.draw(&Text::new(tick(v), (px - 10, py), label.clone())).map_err(err)?;
+        }
         for (k, (_, points)) in &shown {
             let pixels = points
                 .iter()
@@ -552,6 +774,25 @@ impl Figure for Convergence<'_> {
         }
         draw_legend(root, &panel, &entries, svg)
     }
+}
+
+/// Ticks of a log axis from `y0` to `y1` (both powers of ten): each decade,
+/// plus 2 and 5 times it when the range is 3 decades or less; `true` marks
+/// the decades.
+fn log_ticks(y0: f64, y1: f64) -> Vec<(f64, bool)> {
+    let (d0, d1) = (y0.log10().round() as i32, y1.log10().round() as i32);
+    let every = ((d1 - d0 + 11) / 12).max(1);
+    let mults: &[u32] = if d1 - d0 <= 3 { &[1, 2, 5] } else { &[1] };
+    let mut ticks = Vec::new();
+    for d in (d0..=d1).step_by(every as usize) {
+        for &m in mults {
+            let v: f64 = format!("{m}e{d}").parse().unwrap_or(f64::NAN);
+            if v <= y1 * (1.0 + 1e-9) {
+                ticks.push((v, m == 1));
+            }
+        }
+    }
+    ticks
 }
 
 /// Whole decades around the positive ratios; one decade lower when some
@@ -605,7 +846,7 @@ fn state_color(s: JointState) -> RGBColor {
 impl Figure for JointMap<'_> {
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>, _svg: bool) -> Result<(), String> {
         root.fill(&WHITE).map_err(err)?;
-        let body = root.titled(self.title, font(TITLE_SIZE)).map_err(err)?;
+        let body = titled(root, self.title)?;
         let entries: Vec<Entry> = STATE_COLORS
             .iter()
             .zip(STATE_LABELS)
@@ -654,7 +895,7 @@ impl Figure for JointMap<'_> {
         chart.draw_series(cells).map_err(err)?;
         for &t in te.get(1..te.len().saturating_sub(1)).unwrap_or(&[]) {
             let line = vec![chart.backend_coord(&(x0, t)), chart.backend_coord(&(x1, t))];
-            root.draw(&PathElement::new(line, WHITE.stroke_width(2))).map_err(err)?;
+            root.draw(&PathElement::new(line, ShapeStyle::from(&WHITE).stroke_width(2))).map_err(err)?;
         }
         let frame = [chart.backend_coord(&(x0, y1)), chart.backend_coord(&(x1, y0))];
         root.draw(&Rectangle::new(frame, BLACK)).map_err(err)?;
@@ -693,6 +934,15 @@ mod tests {
         assert_eq!(log_range(Some((0.02, 1.0)), true), (0.001, 1.0));
         assert_eq!(log_range(Some((1.0, 1.0)), false), (1.0, 10.0));
         assert_eq!(log_range(None, true), (0.1, 1.0));
+    }
+
+    #[test]
+    fn log_axis_ticks() {
+        let v: Vec<f64> = log_ticks(0.01, 1.0).into_iter().map(|t| t.0).collect();
+        assert_eq!(v, [0.01, 0.02, 0.05, 0.1, 0.2, 0.5, 1.0]);
+        let t = log_ticks(1e-5, 1.0);
+        assert_eq!(t.len(), 6);
+        assert!(t.iter().all(|t| t.1));
     }
 
     #[test]

@@ -59,7 +59,9 @@ fn read_svg(path: &Path) -> Svg {
     for n in root.descendants().filter(|n| n.is_element()) {
         match n.tag_name().name() {
             "text" => {
-                texts.insert(n.text().unwrap_or("").trim().to_owned());
+                let t = n.text().unwrap_or("").trim().to_owned();
+                assert!(!t.is_empty(), "no empty text element");
+                assert!(texts.insert(t.clone()) || t.parse::<f64>().is_ok(), "{t:?} drawn twice");
             }
             "polyline" => {
                 let w = n.attribute("stroke-width").unwrap();
@@ -327,15 +329,18 @@ fn render_samples_for_review() {
     let (svg, png) = paths(&dir, "profile");
     plot_profile(&svg, &png, "Cut a-a (z = 0.75 m), theta = 180 deg", "r (m)", "sigma_z (MPa)", &prof).unwrap();
 
-    let runs: Vec<(String, Vec<(u32, f64)>)> = vec![
-        (
-            "frictionless (C = 0, phi = 0)".into(),
-            (1..=60).map(|i| (i, (1.0 - 0.04 * f64::from(i)).max(0.2 / (1.0 + 0.05 * f64::from(i - 20))))).collect(),
-        ),
-        (
-            "no slip (C = 2.0, phi = 30)".into(),
-            (1..=25).map(|i| (i, (1.0 - 0.045 * f64::from(i)).max(0.17 / (1.0 + 0.3 * f64::from(i - 18))))).collect(),
-        ),
+    // Linear to 20 %, then hyperbolic, as the paper's Fig. 8.
+    let fig8 = |n: u32, knee: f64| -> Vec<(u32, f64)> {
+        (1..=n)
+            .map(|i| {
+                let i = f64::from(i);
+                (i as u32, if i <= knee { 1.0 - 0.8 * (i - 1.0) / (knee - 1.0) } else { 0.2 * knee / i })
+            })
+            .collect()
+    };
+    let runs = vec![
+        ("frictionless (C = 0, phi = 0)".to_owned(), fig8(80, 20.0)),
+        ("no slip (C = 2.0, phi = 30)".to_owned(), fig8(30, 12.0)),
     ];
     let (svg, png) = paths(&dir, "convergence");
     plot_convergence(&svg, &png, "Residual ratio (Fig. 8)", &runs).unwrap();

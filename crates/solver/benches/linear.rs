@@ -41,12 +41,36 @@ fn env_or<T: std::str::FromStr>(name: &str, default: T) -> T {
     std::env::var(name).ok().and_then(|v| v.parse().ok()).unwrap_or(default)
 }
 
+/// CPU time and run-queue wait of all threads of this process so far, in
+/// seconds (`/proc/self/task/*/schedstat`: nanoseconds on a CPU, waiting).
+/// The wait is the time a thread was ready but the machine's CPUs were busy:
+/// it tells how much other processes inflated a wall time.
+fn cpu_and_wait() -> (f64, f64) {
+    let mut out = (0.0, 0.0);
+    if let Ok(tasks) = std::fs::read_dir("/proc/self/task") {
+        for t in tasks.flatten() {
+            if let Ok(s) = std::fs::read_to_string(t.path().join("schedstat")) {
+                let mut f = s.split_whitespace().map(|v| v.parse::<f64>().unwrap_or(0.0));
+                out.0 += f.next().unwrap_or(0.0) * 1e-9;
+                out.1 += f.next().unwrap_or(0.0) * 1e-9;
+            }
+        }
+    }
+    out
+}
+
 /// One measured case: a name, a faer setting and the work.
 struct Case<'a> {
     name: &'static str,
     par: Par,
     work: Box<dyn FnMut() + 'a>,
-    times: Vec<f64>,
+    /// (wall, CPU, run-queue wait) per round, seconds.
+    times: Vec<(f64, f64, f64)>,
+}
+
+fn med(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
 }
 
 impl<'a> Case<'a> {
@@ -59,12 +83,16 @@ impl<'a> Case<'a> {
         }
     }
     fn min(&self) -> f64 {
-        self.times.iter().copied().fold(f64::INFINITY, f64::min)
+        self.times.iter().map(|t| t.0).fold(f64::INFINITY, f64::min)
     }
     fn median(&self) -> f64 {
-        let mut t = self.times.clone();
-        t.sort_by(f64::total_cmp);
-        t[t.len() / 2]
+        med(self.times.iter().map(|t| t.0).collect())
+    }
+    fn cpu(&self) -> f64 {
+        med(self.times.iter().map(|t| t.1).collect())
+    }
+    fn wait(&self) -> f64 {
+        med(self.times.iter().map(|t| t.2).collect())
     }
 }
 
@@ -74,19 +102,31 @@ fn run_group(title: &str, reps: usize, cases: &mut [Case<'_>]) {
     for round in 0..=reps {
         for c in cases.iter_mut() {
             faer::set_global_parallelism(c.par);
+            let (c0, w0) = cpu_and_wait();
             let t = Instant::now();
             (c.work)();
             let dt = t.elapsed().as_secs_f64();
+            let (c1, w1) = cpu_and_wait();
             if round > 0 {
-                c.times.push(dt);
+                c.times.push((dt, c1 - c0, w1 - w0));
             }
         }
     }
     faer::set_global_parallelism(Par::rayon(0));
-    println!("\n## {title} ({reps} rounds)");
-    println!("{:<52} {:>10} {:>10}", "case", "min ms", "median ms");
+    println!("\n## {title} ({reps} rounds; medians unless min)");
+    println!(
+        "{:<52} {:>9} {:>9} {:>9} {:>9}",
+        "case", "min ms", "wall ms", "CPU ms", "wait ms"
+    );
     for c in cases.iter() {
-        println!("{:<52} {:>10.3} {:>10.3}", c.name, 1e3 * c.min(), 1e3 * c.median());
+        println!(
+            "{:<52} {:>9.3} {:>9.3} {:>9.3} {:>9.3}",
+            c.name,
+            1e3 * c.min(),
+            1e3 * c.median(),
+            1e3 * c.cpu(),
+            1e3 * c.wait()
+        );
     }
 }
 
@@ -95,6 +135,19 @@ fn median_of(cases: &[Case<'_>], name: &str) -> f64 {
         .iter()
         .find(|c| c.name == name)
         .map_or(f64::NAN, Case::median)
+}
+
+fn cpu_of(cases: &[Case<'_>], name: &str) -> f64 {
+    cases.iter().find(|c| c.name == name).map_or(f64::NAN, Case::cpu)
+}
+
+/// `a / b` of the median wall times, and of the median CPU times.
+fn ratio(cases: &[Case<'_>], a: &str, b: &str) -> String {
+    format!(
+        "{:.2} (CPU {:.2})",
+        median_of(cases, a) / median_of(cases, b),
+        cpu_of(cases, a) / cpu_of(cases, b)
+    )
 }
 
 /// The equation-space pattern `Model::new` builds.
@@ -288,6 +341,40 @@ fn main() {
             .fold(0.0f64, f64::max);
         assert!(worst < 1e-9, "slot-table scatter differs from Model::assemble: {worst:e}");
     }
+    // K_m / c_m is a quadratic polynomial in m (B_m = B_a + m B_b): three
+    // value arrays, from harmonics 2, 3, 4, give every harmonic m >= 2.
+    let poly: [Vec<f64>; 3] = {
+        let v: Vec<Vec<f64>> = (2..=4)
+            .map(|k| {
+                let c = axijoint_solver::elements::c_m(k);
+                model.assemble(k).0.iter().map(|x| x / c).collect()
+            })
+            .collect();
+        let c2: Vec<f64> = (0..v[0].len()).map(|i| (v[2][i] - 2.0 * v[1][i] + v[0][i]) / 2.0).collect();
+        let c1: Vec<f64> = (0..v[0].len()).map(|i| v[1][i] - v[0][i] - 5.0 * c2[i]).collect();
+        let c0: Vec<f64> = (0..v[0].len()).map(|i| v[0][i] - 2.0 * c1[i] - 4.0 * c2[i]).collect();
+        [c0, c1, c2]
+    };
+    let from_poly = |k: u32| -> Vec<f64> {
+        let (c, x) = (axijoint_solver::elements::c_m(k), f64::from(k));
+        (0..poly[0].len())
+            .map(|i| c * (poly[0][i] + x * poly[1][i] + x * x * poly[2][i]))
+            .collect()
+    };
+    {
+        let k = m_max.max(4) + 3;
+        let (lib, _) = model.assemble(k);
+        let pinned_k = pinned_slots(&pattern, &model.dofs.pinned(k));
+        let scale = lib.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        let worst = lib
+            .iter()
+            .zip(from_poly(k))
+            .zip(&pinned_k)
+            .filter(|(_, &p)| !p)
+            .map(|((a, b), _)| (a - b).abs() / scale)
+            .fold(0.0f64, f64::max);
+        println!("# K_m from the three arrays of m = 2, 3, 4 vs Model::assemble({k}): max error {worst:.1e} of max |K|");
+    }
     let mut asm = [
         Case::new("assemble: Model::assemble", Par::Seq, || {
             black_box(model.assemble(m));
@@ -307,17 +394,28 @@ fn main() {
             for_each_element(&model, m, |i, _, ke| table.scatter(i, &pinned_slot, ke, &mut values));
             black_box(values);
         }),
+        Case::new("assemble: K_m = c_m (K_0 + m K_1 + m^2 K_2), stored", Par::Seq, || {
+            black_box(from_poly(m));
+        }),
     ];
     run_group(&format!("assembly of harmonic {m}"), reps, &mut asm);
     let t_asm = median_of(&asm, "assemble: Model::assemble");
-    let t_el = median_of(&asm, "assemble: element matrices only");
-    let t_bs = median_of(&asm, "assemble: elements + scatter (binary search)");
-    let t_tab = median_of(&asm, "assemble: elements + scatter (slot table)");
+    let lib = "assemble: Model::assemble";
     println!(
-        "element matrices / Model::assemble = {:.2}; scatter (binary search) / Model::assemble = {:.2}; slot table / binary search (whole assembly) = {:.2}",
-        t_el / t_asm,
-        (t_bs - t_el) / t_asm,
-        t_tab / t_bs
+        "element matrices / Model::assemble: {}",
+        ratio(&asm, "assemble: element matrices only", lib)
+    );
+    println!(
+        "copy of the library (elements + binary-search scatter) / Model::assemble: {}",
+        ratio(&asm, "assemble: elements + scatter (binary search)", lib)
+    );
+    println!(
+        "slot-table scatter / binary-search scatter (whole assembly): {}",
+        ratio(&asm, "assemble: elements + scatter (slot table)", "assemble: elements + scatter (binary search)")
+    );
+    println!(
+        "stored polynomial / Model::assemble: {}",
+        ratio(&asm, "assemble: K_m = c_m (K_0 + m K_1 + m^2 K_2), stored", lib)
     );
     println!(
         "slot table: {} entries, {:.1} MiB",
@@ -354,21 +452,23 @@ fn main() {
     ];
     run_group(&format!("factorization (harmonic {m}; factorize_all: M = {m_max})"), reps, &mut fac);
     let t_num_seq = median_of(&fac, "numeric Cholesky, Par::Seq");
-    let t_num_ray = median_of(&fac, "numeric Cholesky, Par::rayon(0)");
     let t_fz_seq = median_of(&fac, "Model::factorize, Par::Seq");
-    let t_fz_ray = median_of(&fac, "Model::factorize, Par::rayon(0)");
     let t_all_seq = median_of(&fac, "Model::factorize_all(0..=M), Par::Seq");
     let t_all_ray = median_of(&fac, "Model::factorize_all(0..=M), Par::rayon(0)");
     println!(
-        "rayon(0) / Seq: numeric {:.2}, Model::factorize {:.2}, factorize_all {:.2}",
-        t_num_ray / t_num_seq,
-        t_fz_ray / t_fz_seq,
-        t_all_ray / t_all_seq
+        "rayon(0) / Seq: numeric {}, Model::factorize {}, factorize_all {}",
+        ratio(&fac, "numeric Cholesky, Par::rayon(0)", "numeric Cholesky, Par::Seq"),
+        ratio(&fac, "Model::factorize, Par::rayon(0)", "Model::factorize, Par::Seq"),
+        ratio(
+            &fac,
+            "Model::factorize_all(0..=M), Par::rayon(0)",
+            "Model::factorize_all(0..=M), Par::Seq"
+        )
     );
     println!(
-        "factorize_all(M + 1 = {}) / (M + 1) / Model::factorize, Seq: {:.2} (2 cores: 0.5 is perfect parallel speed-up)",
-        ms.len(),
-        t_all_seq / ms.len() as f64 / t_fz_seq
+        "factorize_all(0..=M) / (M + 1) / Model::factorize (wall; 0.5 = perfect on 2 idle cores): Seq {:.2}, rayon(0) {:.2}",
+        t_all_seq / ms.len() as f64 / t_fz_seq,
+        t_all_ray / ms.len() as f64 / median_of(&fac, "Model::factorize, Par::rayon(0)")
     );
 
     // Solves.
@@ -419,20 +519,20 @@ fn main() {
     ];
     run_group(&format!("solves (harmonic {m})"), reps.max(30), &mut sol);
     let s2_seq = median_of(&sol, "Model::solve, 1 call x 2 RHS, Seq");
-    let s11_seq = median_of(&sol, "Model::solve, 2 calls x 1 RHS, Seq");
-    let s2_ray = median_of(&sol, "Model::solve, 1 call x 2 RHS, rayon(0)");
-    let s11_ray = median_of(&sol, "Model::solve, 2 calls x 1 RHS, rayon(0)");
-    let f2 = median_of(&sol, "faer solve_in_place, n x 2, Seq");
-    let f11 = median_of(&sol, "faer solve_in_place, 2 x (n x 1), Seq");
-    let t_probe = median_of(&sol, "probe of Model::factorize (matvec + 1 RHS), Seq");
     println!(
-        "2 calls x 1 RHS / 1 call x 2 RHS: Model::solve Seq {:.2}, rayon(0) {:.2}; faer alone {:.2}",
-        s11_seq / s2_seq,
-        s11_ray / s2_ray,
-        f11 / f2
+        "2 calls x 1 RHS / 1 call x 2 RHS: Model::solve Seq {}, rayon(0) {}; faer alone {}",
+        ratio(&sol, "Model::solve, 2 calls x 1 RHS, Seq", "Model::solve, 1 call x 2 RHS, Seq"),
+        ratio(&sol, "Model::solve, 2 calls x 1 RHS, rayon(0)", "Model::solve, 1 call x 2 RHS, rayon(0)"),
+        ratio(&sol, "faer solve_in_place, 2 x (n x 1), Seq", "faer solve_in_place, n x 2, Seq")
     );
-    println!("rayon(0) / Seq, Model::solve 2 RHS: {:.2}", s2_ray / s2_seq);
-    println!("probe / Model::factorize (Seq): {:.2}", t_probe / t_fz_seq);
+    println!(
+        "rayon(0) / Seq, Model::solve 2 RHS: {}",
+        ratio(&sol, "Model::solve, 1 call x 2 RHS, rayon(0)", "Model::solve, 1 call x 2 RHS, Seq")
+    );
+    println!(
+        "probe / Model::factorize (Seq): {:.2}",
+        median_of(&sol, "probe of Model::factorize (matvec + 1 RHS), Seq") / t_fz_seq
+    );
     let total = t_asm + t_num_seq + s2_seq;
     println!(
         "\nshare of one harmonic (Seq; assembly + numeric Cholesky + 2-RHS solve = {:.1} ms): assembly {:.0} %, numeric {:.0} %, solve {:.0} %",

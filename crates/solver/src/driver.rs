@@ -463,6 +463,10 @@ pub fn solve_scene(
         .collect();
     let sections = scene_sections(scene, &linear.loads)?;
     let settings = IterationSettings {
+        method: match scene.solver.method {
+            crate::scene::SolverMethod::Paper => crate::iteration::Method::Plain,
+            crate::scene::SolverMethod::Anderson => crate::iteration::Method::Anderson { depth: 8 },
+        },
         epsilon: scene.solver.epsilon,
         max_iterations: scene.solver.max_iterations,
         ..IterationSettings::default()

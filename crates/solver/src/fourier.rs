@@ -117,6 +117,50 @@ impl Sections {
         self.theta.is_empty()
     }
 
+    /// Highest harmonic `m` such that the discrete products of all basis
+    /// functions up to `m` are exact (`sum_s w_s phi_i phi_j = c_i delta_ij`,
+    /// both families on a full set, the symmetric one on a half set):
+    /// computed, so it holds for uneven sections too.
+    pub fn resolves_up_to(&self, m_max: u32) -> Option<u32> {
+        let c = |m: u32| if m == 0 { 2.0 * PI } else { PI };
+        let families: &[Family] = if self.half {
+            &[Family::Symmetric]
+        } else {
+            &[Family::Symmetric, Family::Antisymmetric]
+        };
+        let exact = |i: u32, j: u32| {
+            families.iter().all(|&f| {
+                let (mut rz, mut th) = (0.0, 0.0);
+                for (&t, &w) in self.theta.iter().zip(&self.weight) {
+                    let (a, b) = (self.phi(i, f, t), self.phi(j, f, t));
+                    rz += w * a.0 * b.0;
+                    th += w * a.1 * b.1;
+                }
+                let skip_rz = f == Family::Antisymmetric && (i == 0 || j == 0);
+                let want = |torsion_absent: bool| if i == j && !torsion_absent { c(i) } else { 0.0 };
+                let rz_ok = skip_rz || (rz - want(skip_rz)).abs() <= 1e-9 * c(i);
+                let no_theta = (i == 0 || j == 0) && (self.half || f == Family::Antisymmetric);
+                let th_ok = if i == 0 && j == 0 && no_theta {
+                    th.abs() <= 1e-9
+                } else if no_theta {
+                    true
+                } else {
+                    (th - want(false)).abs() <= 1e-9 * c(i)
+                };
+                rz_ok && th_ok
+            })
+        };
+        let mut best = None;
+        for m in 0..=m_max {
+            if (0..=m).all(|j| exact(m, j)) {
+                best = Some(m);
+            } else {
+                break;
+            }
+        }
+        best
+    }
+
     /// Highest harmonic the set resolves without aliasing in the analysis:
     /// the trapezoid rule on n equispaced points of the turn integrates
     /// `phi_m phi_m'` exactly for m + m' < n.
@@ -285,6 +329,16 @@ mod tests {
             })
             .sum();
         assert!((lhs - rhs).abs() < 1e-13 * lhs.abs().max(1.0));
+    }
+
+    #[test]
+    fn resolution_is_computed_not_assumed() {
+        assert_eq!(Sections::paper(4).resolves_up_to(10), Some(3));
+        assert_eq!(Sections::half_equispaced(9).resolves_up_to(10), Some(7));
+        assert_eq!(Sections::full_equispaced(9).resolves_up_to(10), Some(4));
+        // Uneven: 0, 90, 180 degrees as a full-turn set misses the other half.
+        let uneven = Sections::full_circle(vec![0.0, PI / 2.0, PI]).unwrap();
+        assert_eq!(uneven.resolves_up_to(4), Some(0));
     }
 
     #[test]

@@ -9,6 +9,11 @@
 //! the released nodal forces there, `rho_s = g_s(u_k) - g_s(u_{k-1})`, and
 //! `Psi_k = max_s |rho_s|`, `Psi_0 = max_s |g_s(u_0)|` (the paper's Eq. 12:
 //! converged when `Psi_k / Psi_0 < epsilon`).
+//!
+//! Written as a fixed point on the released section forces x:
+//! `Psi(x) = release(synthesize(K^-1 (F + A x)))`; the paper iterates
+//! `x <- Psi(x)` (and then `rho_s = Psi(x)_s - x_s`), [`Method::Anderson`]
+//! mixes the last iterates. Either way only back-substitutions are repeated.
 
 use crate::driver::{Displacements, HarmonicDisplacement};
 use crate::elements::{add_traction_forces, joint_points, relative_displacement, JointPoint};
@@ -21,9 +26,23 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
+/// How the next released forces are chosen.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Method {
+    /// The paper's plain iteration: `x_{k+1} = Psi(x_k)`.
+    Plain,
+    /// Anderson mixing over the last `depth` iterates (type II).
+    Anderson {
+        /// History length.
+        depth: usize,
+    },
+}
+
 /// Convergence settings.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct IterationSettings {
+    /// Update rule.
+    pub method: Method,
     /// Converged when `Psi_k / Psi_0 < epsilon`.
     pub epsilon: f64,
     /// Iteration limit (solves).
@@ -36,6 +55,7 @@ pub struct IterationSettings {
 impl Default for IterationSettings {
     fn default() -> Self {
         IterationSettings {
+            method: Method::Anderson { depth: 8 },
             epsilon: 1e-6,
             max_iterations: 500,
             stall_window: 40,
@@ -122,7 +142,7 @@ pub enum IterationError {
         history: Vec<IterationRecord>,
     },
     /// The iteration limit was reached while still converging.
-    #[error("not converged in {iterations} iterations: residual ratio {ratio:.3e} > epsilon {epsilon:.1e} (raise solver.max_iterations or epsilon)")]
+    #[error("not converged in {iterations} iterations: residual ratio {ratio:.3e} > epsilon {epsilon:.1e}; it was still decreasing: raise solver.max_iterations (if it decreases ever more slowly, the load may be close to what the joints can carry)")]
     NotConverged {
         /// Iterations done.
         iterations: u32,
@@ -231,6 +251,111 @@ impl Setup<'_> {
     }
 }
 
+impl Setup<'_> {
+    /// Analyses section forces `x` into harmonic loads (the transpose of
+    /// [`Setup::synthesize`] with the section weights).
+    fn analyse(&self, x: &[f64], released: &mut [HarmonicLoads]) {
+        let n_j = self.joint_nodes.len();
+        released.par_iter_mut().enumerate().for_each(|(h, out)| {
+            out.symmetric.fill(0.0);
+            out.antisymmetric.fill(0.0);
+            for s in 0..self.sections.len() {
+                let w = self.sections.weight[s];
+                let xs = &x[s * 3 * n_j..(s + 1) * 3 * n_j];
+                for (family, vec) in [
+                    (Family::Symmetric, &mut out.symmetric),
+                    (Family::Antisymmetric, &mut out.antisymmetric),
+                ] {
+                    let (a, b) = self.phi(s, h, family);
+                    if a == 0.0 && b == 0.0 {
+                        continue;
+                    }
+                    for (j, &k) in self.joint_nodes.iter().enumerate() {
+                        vec[3 * k] += w * a * xs[3 * j];
+                        vec[3 * k + 1] += w * a * xs[3 * j + 1];
+                        vec[3 * k + 2] += w * b * xs[3 * j + 2];
+                    }
+                }
+            }
+        });
+    }
+}
+
+/// Anderson mixing (type II) of a fixed point `x = Psi(x)` from the
+/// residuals `f = Psi(x) - x`: `x+ = x + f - (dX + dF) gamma` with `gamma`
+/// the least-squares fit of `f` by the residual differences `dF`. Depth 0
+/// is the plain iteration `x+ = x + f`.
+struct Anderson {
+    depth: usize,
+    dx: std::collections::VecDeque<Vec<f64>>,
+    df: std::collections::VecDeque<Vec<f64>>,
+    last: Option<(Vec<f64>, Vec<f64>)>,
+}
+
+impl Anderson {
+    fn new(depth: usize) -> Self {
+        Anderson {
+            depth,
+            dx: Default::default(),
+            df: Default::default(),
+            last: None,
+        }
+    }
+
+    fn reset(&mut self) {
+        self.dx.clear();
+        self.df.clear();
+        self.last = None;
+    }
+
+    fn next(&mut self, x: &[f64], f: &[f64]) -> Vec<f64> {
+        let plain: Vec<f64> = x.iter().zip(f).map(|(a, b)| a + b).collect();
+        if self.depth == 0 {
+            return plain;
+        }
+        if let Some((xp, fp)) = self.last.take() {
+            self.dx.push_back(x.iter().zip(&xp).map(|(a, b)| a - b).collect());
+            self.df.push_back(f.iter().zip(&fp).map(|(a, b)| a - b).collect());
+            if self.dx.len() > self.depth {
+                self.dx.pop_front();
+                self.df.pop_front();
+            }
+        }
+        self.last = Some((x.to_vec(), f.to_vec()));
+        let k = self.df.len();
+        if k == 0 {
+            return plain;
+        }
+        // Normal equations of min |f - dF gamma|, lightly regularised.
+        let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+        let mut a = nalgebra::DMatrix::<f64>::zeros(k, k);
+        let mut rhs = nalgebra::DVector::<f64>::zeros(k);
+        for i in 0..k {
+            for j in 0..=i {
+                let v = dot(&self.df[i], &self.df[j]);
+                a[(i, j)] = v;
+                a[(j, i)] = v;
+            }
+            rhs[i] = dot(&self.df[i], f);
+        }
+        let trace: f64 = (0..k).map(|i| a[(i, i)]).sum();
+        for i in 0..k {
+            a[(i, i)] += 1e-12 * trace.max(f64::MIN_POSITIVE);
+        }
+        let Some(gamma) = a.cholesky().map(|c| c.solve(&rhs)) else {
+            self.reset();
+            return plain;
+        };
+        let mut out = plain;
+        for (j, g) in gamma.iter().enumerate() {
+            for ((o, dx), df) in out.iter_mut().zip(&self.dx[j]).zip(&self.df[j]) {
+                *o -= g * (dx + df);
+            }
+        }
+        out
+    }
+}
+
 /// Runs the iteration. `factors` must hold every harmonic of `loads`;
 /// `laws[j]` is the law of `model.joints[j]`. `progress` sees each record.
 pub fn stress_transfer(
@@ -254,17 +379,26 @@ pub fn stress_transfer(
                 .ok_or_else(|| IterationError::Setup(format!("harmonic {} is not factorized", h.m)))
         })
         .collect::<Result<_, _>>()?;
-    if sections.half && loads.iter().any(|h| h.antisymmetric.iter().any(|&v| v != 0.0)) {
+    let torsion = loads
+        .iter()
+        .any(|h| h.m == 0 && h.symmetric.iter().skip(2).step_by(3).any(|&v| v != 0.0));
+    if sections.half && (torsion || loads.iter().any(|h| h.antisymmetric.iter().any(|&v| v != 0.0))) {
         return Err(IterationError::Setup(
-            "the loads have antisymmetric content: the sections must cover the full turn".into(),
+            "the loads have antisymmetric or torsional content: the sections must cover the full turn".into(),
         ));
     }
+    // The paper's M + 1 sections resolve harmonics up to M - 1 exactly (the
+    // Nyquist harmonic M aliases); fewer, or uneven ones that resolve less,
+    // are refused.
     let m_max = loads.iter().map(|h| h.m).max().unwrap_or(0);
-    if sections.exact_up_to() + 1 < m_max {
+    let resolved = sections.resolves_up_to(m_max);
+    if m_max > 0 && resolved.is_none_or(|r| r + 1 < m_max) {
         return Err(IterationError::Setup(format!(
-            "{} sections cannot carry harmonics 0..={m_max}: give at least {} sections over the half turn (the paper's M + 1)",
+            "the {} sections resolve harmonics only up to {}, not 0..={m_max}: give at least {} evenly spaced sections over the half turn (the paper's M + 1), or {} over the full turn",
             sections.len(),
-            m_max + 1
+            resolved.map_or("none".into(), |r| r.to_string()),
+            m_max + 1,
+            2 * m_max
         )));
     }
 
@@ -316,31 +450,39 @@ pub fn stress_transfer(
     };
     let (n_s, n_p, n_j) = (sections.len(), setup.points.len(), setup.joint_nodes.len());
 
-    // State per (section, point) and released forces per section.
+    // State per (section, point); x: the released section forces applied,
+    // g: those released by the current solution.
     let mut broken = vec![false; n_s * n_p];
     let mut d = vec![[0.0; 3]; n_s * n_p];
     let mut p = vec![[0.0; 3]; n_s * n_p];
     let mut state = vec![JointState::Stick; n_s * n_p];
+    let mut x = vec![0.0; n_s * 3 * n_j];
     let mut g = vec![0.0; n_s * 3 * n_j];
-    let mut g_prev = vec![0.0; n_s * 3 * n_j];
     let mut u_s = vec![0.0; n_s * 3 * n_j];
     let mut released: Vec<HarmonicLoads> = loads.iter().map(|h| HarmonicLoads::zeros(h.m, n)).collect();
     let mut history = Vec::new();
-    let (mut psi0, mut best, mut best_at) = (0.0f64, f64::INFINITY, 0u32);
+    let mut mixer = Anderson::new(match settings.method {
+        Method::Plain => 0,
+        Method::Anderson { depth } => depth,
+    });
+    let (mut psi0, mut psi_prev, mut best, mut best_at) = (0.0f64, f64::INFINITY, f64::INFINITY, 0u32);
     let load_scale = loads
         .iter()
         .flat_map(|h| h.symmetric.iter().chain(&h.antisymmetric))
         .fold(0.0f64, |a, v| a.max(v.abs()));
 
     for it in 1..=settings.max_iterations {
-        // (1) Solve every harmonic for F + G.
+        // (3) Analyse the applied released forces into harmonics.
+        if it > 1 {
+            setup.analyse(&x, &mut released);
+        }
+        // (1) Solve every harmonic for F + A x.
         let harmonics: Vec<HarmonicDisplacement> = loads
             .par_iter()
             .zip(&released)
             .zip(&factor_of)
             .map(|((f, gm), factor)| {
-                let add =
-                    |a: &[f64], b: &[f64]| -> Vec<f64> { a.iter().zip(b).map(|(x, y)| x + y).collect() };
+                let add = |a: &[f64], b: &[f64]| -> Vec<f64> { a.iter().zip(b).map(|(x, y)| x + y).collect() };
                 let sym = add(&f.symmetric, &gm.symmetric);
                 let anti_needed = f.m > 0 && !sections.half;
                 if anti_needed {
@@ -365,7 +507,7 @@ pub fn stress_transfer(
             .collect();
         let u = Displacements { harmonics };
 
-        // (2) Synthesize at the sections, evaluate the law, release.
+        // (2) Synthesize at the sections, evaluate the law, release: g = Psi(x).
         u_s.par_chunks_mut(3 * n_j)
             .enumerate()
             .for_each(|(s, out)| setup.synthesize(&u, s, out));
@@ -379,18 +521,11 @@ pub fn stress_transfer(
                 setup.release(&u_s[s * 3 * n_j..(s + 1) * 3 * n_j], bs, gs, ds, ps, sts)
             });
 
-        // (4) Residual and history.
-        let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
-        let psi = (0..n_s)
-            .map(|s| {
-                let r = s * 3 * n_j..(s + 1) * 3 * n_j;
-                if it == 1 {
-                    norm(&g[r])
-                } else {
-                    let diff: Vec<f64> = g[r.clone()].iter().zip(&g_prev[r]).map(|(a, b)| a - b).collect();
-                    norm(&diff)
-                }
-            })
+        // (4) Residual rho = Psi(x) - x per section, and the history.
+        let f: Vec<f64> = g.iter().zip(&x).map(|(a, b)| a - b).collect();
+        let psi = f
+            .chunks(3 * n_j.max(1))
+            .map(|c| c.iter().map(|v| v * v).sum::<f64>().sqrt())
             .fold(0.0f64, f64::max);
         if it == 1 {
             psi0 = psi;
@@ -400,7 +535,7 @@ pub fn stress_transfer(
         let count = |k: JointState| state.iter().filter(|&&s| s == k).count();
         let record = IterationRecord {
             iteration: it,
-            ratio: if it == 1 && !nothing_released { 1.0 } else { ratio },
+            ratio,
             open: count(JointState::Open),
             slip: count(JointState::Slip),
             stick: count(JointState::Stick),
@@ -408,19 +543,8 @@ pub fn stress_transfer(
         };
         progress(&record);
         history.push(record);
-        if !ratio.is_finite()
-            || u.harmonics
-                .iter()
-                .any(|h| h.symmetric.iter().any(|v| !v.is_finite()))
-        {
-            return Err(no_equilibrium(
-                &setup,
-                &g,
-                &g_prev,
-                "the solution is not finite",
-                record,
-                history,
-            ));
+        if !ratio.is_finite() || u.harmonics.iter().any(|h| h.symmetric.iter().any(|v| !v.is_finite())) {
+            return Err(no_equilibrium(&setup, &f, "the solution is not finite", record, history));
         }
         if nothing_released || (it > 1 && ratio < settings.epsilon) {
             return Ok(Outcome {
@@ -444,38 +568,27 @@ pub fn stress_transfer(
                     "the residual ratio stalls at {ratio:.3e} (no decrease in {} iterations)",
                     settings.stall_window
                 );
-                return Err(no_equilibrium(&setup, &g, &g_prev, &reason, record, history));
+                return Err(no_equilibrium(&setup, &f, &reason, record, history));
             }
             if ratio > 1e6 {
                 let reason = format!("the residual grows (ratio {ratio:.3e})");
-                return Err(no_equilibrium(&setup, &g, &g_prev, &reason, record, history));
+                return Err(no_equilibrium(&setup, &f, &reason, record, history));
             }
-        }
-
-        // (3) Analyse the released forces into harmonics.
-        released.par_iter_mut().enumerate().for_each(|(h, out)| {
-            out.symmetric.fill(0.0);
-            out.antisymmetric.fill(0.0);
-            for s in 0..n_s {
-                let w = sections.weight[s];
-                let gs = &g[s * 3 * n_j..(s + 1) * 3 * n_j];
-                for (family, vec) in [
-                    (Family::Symmetric, &mut out.symmetric),
-                    (Family::Antisymmetric, &mut out.antisymmetric),
-                ] {
-                    let (a, b) = setup.phi(s, h, family);
-                    if a == 0.0 && b == 0.0 {
-                        continue;
-                    }
-                    for (j, &k) in setup.joint_nodes.iter().enumerate() {
-                        vec[3 * k] += w * a * gs[3 * j];
-                        vec[3 * k + 1] += w * a * gs[3 * j + 1];
-                        vec[3 * k + 2] += w * b * gs[3 * j + 2];
-                    }
+            if let Some(limit) = residual_limit(&history, settings.stall_window / 2) {
+                if limit > settings.epsilon && limit > 0.75 * ratio {
+                    let reason = format!(
+                        "the residual ratio tends to {limit:.3e} > epsilon, not to zero (it is {ratio:.3e})"
+                    );
+                    return Err(no_equilibrium(&setup, &f, &reason, record, history));
                 }
             }
-        });
-        std::mem::swap(&mut g, &mut g_prev);
+        }
+        // A jump of the residual restarts the mixing from a plain step.
+        if psi > 2.0 * psi_prev {
+            mixer.reset();
+        }
+        psi_prev = psi;
+        x = mixer.next(&x, &f);
     }
     let last = history.last().map_or(f64::NAN, |r| r.ratio);
     Err(IterationError::NotConverged {
@@ -486,11 +599,33 @@ pub fn stress_transfer(
     })
 }
 
-/// The no-equilibrium error, naming the joint with the largest residual.
+/// The limit of the residual-ratio sequence predicted from its decrease over
+/// the last two windows of `w` iterations (geometric fit): 0 for geometric
+/// convergence, about half the current ratio for the slow hyperbolic
+/// convergence the paper reports, and the positive limit the ratio settles
+/// to when no equilibrium exists. `None` until there are 3w + 1 values or
+/// while the ratio does not decrease steadily.
+fn residual_limit(history: &[IterationRecord], w: u32) -> Option<f64> {
+    let w = w.max(2) as usize;
+    let n = history.len();
+    if n < 3 * w + 1 {
+        return None;
+    }
+    // Window minima damp the oscillations of the accelerated iteration.
+    let min = |a: usize, b: usize| history[a..b].iter().map(|r| r.ratio).fold(f64::INFINITY, f64::min);
+    let (r0, r1, r2) = (min(n - 3 * w, n - 2 * w), min(n - 2 * w, n - w), min(n - w, n));
+    let (d1, d2) = (r0 - r1, r1 - r2);
+    if !(d1 > 0.0 && d2 > 0.0 && d2 < d1) {
+        return None;
+    }
+    let q = d2 / d1;
+    Some(r2 - d2 * q / (1.0 - q))
+}
+
+/// The no-equilibrium error, naming the joint with the largest residual `f`.
 fn no_equilibrium(
     setup: &Setup,
-    g: &[f64],
-    g_prev: &[f64],
+    f: &[f64],
     reason: &str,
     last: IterationRecord,
     history: Vec<IterationRecord>,
@@ -502,8 +637,7 @@ fn no_equilibrium(
         for &j in &setup.local[i] {
             for s in 0..setup.sections.len() {
                 for c in 0..3 {
-                    let k = s * 3 * n_j + 3 * j + c;
-                    per_joint[info.joint] += (g[k] - g_prev[k]).powi(2);
+                    per_joint[info.joint] += f[s * 3 * n_j + 3 * j + c].powi(2);
                 }
             }
         }
@@ -514,10 +648,7 @@ fn no_equilibrium(
         .max_by(|a, b| a.1.total_cmp(b.1))
         .map_or(0, |(j, _)| j);
     IterationError::NoEquilibrium {
-        joint: mesh
-            .joints
-            .get(worst)
-            .map_or_else(|| "?".into(), |j| j.name.clone()),
+        joint: mesh.joints.get(worst).map_or_else(|| "?".into(), |j| j.name.clone()),
         reason: reason.to_string(),
         open: last.open,
         slip: last.slip,
