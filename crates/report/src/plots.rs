@@ -18,8 +18,8 @@
 //! | [`plot_joint_map`] | open / slip / stick cells over (s, theta) |
 
 use crate::ReportError;
-use axijoint_solver::joint_law::JointState;
 use ab_glyph::{Font, FontRef, ScaleFont};
+use axijoint_solver::joint_law::JointState;
 use plotters::coord::Shift;
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;
@@ -92,7 +92,10 @@ pub fn plot_profile(
     for s in series {
         for (i, &(x, y)) in s.points.iter().enumerate() {
             if !x.is_finite() || !y.is_finite() {
-                return Err(not_finite(svg, format!("point {i} ({x}, {y}) of series '{}'", s.label)));
+                return Err(not_finite(
+                    svg,
+                    format!("point {i} ({x}, {y}) of series '{}'", s.label),
+                ));
             }
         }
     }
@@ -125,7 +128,10 @@ pub fn plot_convergence(
     for (label, points) in runs {
         for &(it, r) in points {
             if !r.is_finite() {
-                return Err(not_finite(svg, format!("ratio {r} at iteration {it} of run '{label}'")));
+                return Err(not_finite(
+                    svg,
+                    format!("ratio {r} at iteration {it} of run '{label}'"),
+                ));
             }
         }
     }
@@ -211,7 +217,8 @@ static FONT_BYTES: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
 /// its own sans-serif font).
 fn ensure_font(path: &Path) -> Result<(), ReportError> {
     static REGISTERED: OnceLock<bool> = OnceLock::new();
-    let ok = *REGISTERED.get_or_init(|| plotters::style::register_font(FONT, FontStyle::Normal, FONT_BYTES).is_ok());
+    let ok = *REGISTERED
+        .get_or_init(|| plotters::style::register_font(FONT, FontStyle::Normal, FONT_BYTES).is_ok());
     if ok {
         Ok(())
     } else {
@@ -245,7 +252,9 @@ fn write_figure(fig: &impl Figure, svg: &Path, png: &Path) -> Result<(), ReportE
     let mut rgb = vec![255u8; w as usize * h as usize * 3];
     {
         let bitmap = BitMapBackend::with_buffer(&mut rgb, SIZE);
-        let root = Smooth::new(bitmap).map_err(|e| ReportError::write(png, e))?.into_drawing_area();
+        let root = Smooth::new(bitmap)
+            .map_err(|e| ReportError::write(png, e))?
+            .into_drawing_area();
         fig.draw(&root, false).map_err(|e| ReportError::write(png, e))?;
         root.present().map_err(|e| ReportError::write(png, e))?;
     }
@@ -317,7 +326,11 @@ impl<B: DrawingBackend> Smooth<B> {
     }
 
     /// Blends `color` at coverage `cov` into each pixel.
-    fn blend(&mut self, pixels: Vec<((i32, i32), f32)>, color: BackendColor) -> Result<(), DrawingErrorKind<B::ErrorType>> {
+    fn blend(
+        &mut self,
+        pixels: Vec<((i32, i32), f32)>,
+        color: BackendColor,
+    ) -> Result<(), DrawingErrorKind<B::ErrorType>> {
         for (p, cov) in pixels {
             if cov > 0.0 {
                 let c = BackendColor {
@@ -382,7 +395,11 @@ impl<B: DrawingBackend> DrawingBackend for Smooth<B> {
         self.inner.present()
     }
 
-    fn draw_pixel(&mut self, point: BackendCoord, color: BackendColor) -> Result<(), DrawingErrorKind<B::ErrorType>> {
+    fn draw_pixel(
+        &mut self,
+        point: BackendCoord,
+        color: BackendColor,
+    ) -> Result<(), DrawingErrorKind<B::ErrorType>> {
         self.inner.draw_pixel(point, color)
     }
 
@@ -571,7 +588,7 @@ const SAMPLE: i32 = 44;
 fn split_legend<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     entries: &[Entry],
-) -> Result<(DrawingArea<DB, Shift>, DrawingArea<DB, Shift>), String> {
+) -> Result<(Area<DB>, Area<DB>), String> {
     let style = font(LEGEND_SIZE);
     let mut text_w = 0u32;
     for e in entries {
@@ -627,7 +644,8 @@ fn draw_path<DB: DrawingBackend>(
     svg: bool,
 ) -> Result<(), String> {
     if pixels.len() == 1 {
-        root.draw(&Circle::new(pixels[0], 4, color.filled())).map_err(err)?;
+        root.draw(&Circle::new(pixels[0], 4, color.filled()))
+            .map_err(err)?;
     }
     let style = ShapeStyle::from(&color).stroke_width(LINE_WIDTH);
     if !dashed {
@@ -642,10 +660,14 @@ fn draw_path<DB: DrawingBackend>(
 }
 
 /// Draws `title` centred at the top of `root`; returns the area below it.
-fn titled<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, title: &str) -> Result<DrawingArea<DB, Shift>, String> {
+fn titled<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    title: &str,
+) -> Result<DrawingArea<DB, Shift>, String> {
     let (w, _) = root.dim_in_pixel();
     let style = font(TITLE_SIZE).pos(Pos::new(HPos::Center, VPos::Top));
-    root.draw(&Text::new(title, (w as i32 / 2, 12), style)).map_err(err)?;
+    root.draw(&Text::new(title, (w as i32 / 2, 12), style))
+        .map_err(err)?;
     Ok(root.margin(12 + TITLE_SIZE as i32 + 12, 0, 0, 0))
 }
 
@@ -712,17 +734,27 @@ impl Figure for Profile<'_> {
     }
 }
 
+/// A run of [`plot_convergence`]: label and `(iteration, ratio)`.
+type Run = (String, Vec<(u32, f64)>);
+
+/// A drawing area in backend pixels.
+type Area<DB> = DrawingArea<DB, Shift>;
+
 struct Convergence<'a> {
     title: &'a str,
-    runs: &'a [(String, Vec<(u32, f64)>)],
+    runs: &'a [Run],
 }
 
 impl Figure for Convergence<'_> {
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>, svg: bool) -> Result<(), String> {
         root.fill(&WHITE).map_err(err)?;
         let body = titled(root, self.title)?;
-        let shown: Vec<(usize, &(String, Vec<(u32, f64)>))> =
-            self.runs.iter().enumerate().filter(|(_, r)| !r.1.is_empty()).collect();
+        let shown: Vec<(usize, &Run)> = self
+            .runs
+            .iter()
+            .enumerate()
+            .filter(|(_, r)| !r.1.is_empty())
+            .collect();
         let entries: Vec<Entry> = shown
             .iter()
             .map(|(k, (label, _))| Entry {
@@ -761,9 +793,12 @@ impl Figure for Convergence<'_> {
         for (v, decade) in log_ticks(y0, y1) {
             let (px, py) = chart.backend_coord(&(i0, v));
             let grid = BLACK.mix(if decade { 0.3 } else { 0.12 });
-            root.draw(&PathElement::new(vec![(px, py), (x_end, py)], grid)).map_err(err)?;
-            root.draw(&PathElement::new(vec![(px - 6, py), (px, py)], BLACK)).map_err(err)?;
-            root.draw(&Text::new(tick(v), (px - 10, py), label.clone())).map_err(err)?;
+            root.draw(&PathElement::new(vec![(px, py), (x_end, py)], grid))
+                .map_err(err)?;
+            root.draw(&PathElement::new(vec![(px - 6, py), (px, py)], BLACK))
+                .map_err(err)?;
+            root.draw(&Text::new(tick(v), (px - 10, py), label.clone()))
+                .map_err(err)?;
         }
         for (k, (_, points)) in &shown {
             let pixels = points
@@ -895,7 +930,8 @@ impl Figure for JointMap<'_> {
         chart.draw_series(cells).map_err(err)?;
         for &t in te.get(1..te.len().saturating_sub(1)).unwrap_or(&[]) {
             let line = vec![chart.backend_coord(&(x0, t)), chart.backend_coord(&(x1, t))];
-            root.draw(&PathElement::new(line, ShapeStyle::from(&WHITE).stroke_width(2))).map_err(err)?;
+            root.draw(&PathElement::new(line, ShapeStyle::from(&WHITE).stroke_width(2)))
+                .map_err(err)?;
         }
         let frame = [chart.backend_coord(&(x0, y1)), chart.backend_coord(&(x1, y0))];
         root.draw(&Rectangle::new(frame, BLACK)).map_err(err)?;
@@ -904,9 +940,11 @@ impl Figure for JointMap<'_> {
         let label = font(TICK_SIZE).pos(Pos::new(HPos::Right, VPos::Center));
         for (j, &t) in self.theta.iter().enumerate() {
             let (px, py) = chart.backend_coord(&(x0, t));
-            root.draw(&PathElement::new(vec![(px - 6, py), (px, py)], BLACK)).map_err(err)?;
+            root.draw(&PathElement::new(vec![(px - 6, py), (px, py)], BLACK))
+                .map_err(err)?;
             if j % every == 0 {
-                root.draw(&Text::new(tick(t), (px - 10, py), label.clone())).map_err(err)?;
+                root.draw(&Text::new(tick(t), (px - 10, py), label.clone()))
+                    .map_err(err)?;
             }
         }
         draw_legend(root, &panel, &entries, false)

@@ -12,19 +12,21 @@
 //!
 //! | meridional | VTK cell (type) | nodes |
 //! |---|---|---|
-//! | T3 | wedge (13) | base = T3 at theta_k, top = T3 at theta_{k+1} |
-//! | T6 | quadratic wedge (26) | corners k, corners k+1, mids k, mids k+1, corners at k+1/2 |
+//! | T3 | wedge (13) | base = T3 at theta_{k+1}, top = T3 at theta_k |
+//! | T6 | quadratic wedge (26) | corners k+1, corners k, mids k+1, mids k, corners at k+1/2 |
 //! | Q4 | hexahedron (12) | base = Q4 at theta_{k+1}, top = Q4 at theta_k |
 //! | Q8 | quadratic hexahedron (25) | corners k+1, corners k, mids k+1, mids k, corners at k+1/2 |
 //! | Q9 | triquadratic hexahedron (29) | as Q8, then face centres (meridional mids 7, 5, 4, 6 at k+1/2; centre at k+1, k), centre at k+1/2 |
 //!
-//! Orientation follows VTK's face tables (every face normal points out of
-//! the cell, as `vtkCell::GetFace` promises): a counter-clockwise meridional
-//! cell has its normal along -theta, so a hexahedron's base `(0,1,2,3)`, whose
-//! normal must point towards the top, is the ring at theta_{k+1}, while a
-//! wedge's base `(0,1,2)`, whose normal must point away from the top (see
-//! `vtkWedge`), is the ring at theta_k. (VTK's parametric Jacobian is then
-//! positive for hexahedra and negative for wedges: VTK's wedge convention.)
+//! Orientation follows VTK's face tables (VTK 9: every face of
+//! `vtkCell::GetFace` has its normal out of the cell): the base of a
+//! hexahedron `(0,1,2,3)` or of a wedge `(0,1,2)` has its right-hand normal
+//! towards the top face. A counter-clockwise meridional cell has its normal
+//! along -theta, so the base is the ring at theta_{k+1} and the top the ring
+//! at theta_k; VTK's parametric Jacobian is then positive, and VTK's cell
+//! validator and cell-size filter report valid cells with positive volumes.
+//! (The old `vtkWedge` documentation describes the wedge's base the other
+//! way round; VTK 9's face tables and volume computations use this one.)
 //!
 //! **Points** are not shared between bodies: each body has its own rings of
 //! points, so the stress of each body is its own (DESIGN.md section 4). Points
@@ -460,14 +462,14 @@ fn revolve(kind: CellKind, nodes: &[usize], k: usize, rings: &Rings) -> Vec<usiz
     let mut v = Vec::with_capacity(27);
     match kind {
         CellKind::Tri3 => {
-            v.extend((0..3).map(lo));
             v.extend((0..3).map(hi));
+            v.extend((0..3).map(lo));
         }
         CellKind::Tri6 => {
-            v.extend((0..3).map(lo));
             v.extend((0..3).map(hi));
-            v.extend((3..6).map(lo));
+            v.extend((0..3).map(lo));
             v.extend((3..6).map(hi));
+            v.extend((3..6).map(lo));
             v.extend((0..3).map(mid));
         }
         CellKind::Quad4 => {

@@ -9,7 +9,8 @@
 //! of two points as its legend sample. Joint-map cells are filled `<rect>`s.
 
 use axijoint_report::plots::{
-    plot_convergence, plot_joint_map, plot_profile, Series, LINE_WIDTH, PALETTE, SIZE, STATE_COLORS, STATE_LABELS,
+    plot_convergence, plot_joint_map, plot_profile, Series, LINE_WIDTH, PALETTE, SIZE, STATE_COLORS,
+    STATE_LABELS,
 };
 use axijoint_report::ReportError;
 use axijoint_solver::joint_law::JointState;
@@ -51,17 +52,27 @@ fn read_svg(path: &Path) -> Svg {
     assert_eq!(root.tag_name().name(), "svg");
     assert_eq!(root.attribute("width"), Some(SIZE.0.to_string().as_str()));
     assert_eq!(root.attribute("height"), Some(SIZE.1.to_string().as_str()));
-    assert!(!text.contains("NaN") && !text.contains("inf"), "no NaN or infinity in the SVG");
+    assert!(
+        !text.contains("NaN") && !text.contains("inf"),
+        "no NaN or infinity in the SVG"
+    );
     let mut texts = BTreeSet::new();
     let mut lines = Vec::new();
     let mut rect_fills = Vec::new();
+    let mut placed = BTreeSet::new();
     let width = LINE_WIDTH.to_string();
     for n in root.descendants().filter(|n| n.is_element()) {
         match n.tag_name().name() {
             "text" => {
                 let t = n.text().unwrap_or("").trim().to_owned();
                 assert!(!t.is_empty(), "no empty text element");
-                assert!(texts.insert(t.clone()) || t.parse::<f64>().is_ok(), "{t:?} drawn twice");
+                let at = (
+                    t.clone(),
+                    n.attribute("x").unwrap().to_owned(),
+                    n.attribute("y").unwrap().to_owned(),
+                );
+                assert!(placed.insert(at), "{t:?} drawn twice at one place");
+                texts.insert(t);
             }
             "polyline" => {
                 let w = n.attribute("stroke-width").unwrap();
@@ -109,7 +120,10 @@ fn check_png(path: &Path) -> Vec<[u8; 3]> {
     let (w, h, px) = read_png(path);
     assert_eq!((w, h), SIZE);
     assert!(px.iter().any(|p| *p != px[0]), "not all pixels the same colour");
-    let dark = px.iter().filter(|p| p.iter().map(|&c| u32::from(c)).sum::<u32>() < 200).count();
+    let dark = px
+        .iter()
+        .filter(|p| p.iter().map(|&c| u32::from(c)).sum::<u32>() < 200)
+        .count();
     assert!(dark > 2000, "text and axes give dark pixels, found {dark}");
     px
 }
@@ -143,7 +157,15 @@ fn profile_svg_and_png() {
         series("without joint, footing", 25, true, 1, 0.6, |x| 0.8 / x),
         series("empty, skipped", 0, false, 2, 0.0, |x| x),
     ];
-    plot_profile(&svg, &png, "Cut a-a, theta = 180 deg", "r (m)", "sigma_z (MPa)", &all).unwrap();
+    plot_profile(
+        &svg,
+        &png,
+        "Cut a-a, theta = 180 deg",
+        "r (m)",
+        "sigma_z (MPa)",
+        &all,
+    )
+    .unwrap();
     assert_eq!(listing(dir.path()), ["cut_a_theta180.png", "cut_a_theta180.svg"]);
 
     let doc = read_svg(&svg);
@@ -154,7 +176,11 @@ fn profile_svg_and_png() {
         assert!(doc.texts.contains(&s.label), "legend label {:?}", s.label);
     }
     assert!(!doc.texts.contains("empty, skipped"));
-    assert_eq!(doc.lines.len(), 2 * 4, "a line and a legend sample per non-empty series");
+    assert_eq!(
+        doc.lines.len(),
+        2 * 4,
+        "a line and a legend sample per non-empty series"
+    );
     for s in &all[..4] {
         let key = (hex(PALETTE[s.color]), s.dashed);
         let mine: Vec<usize> = doc
@@ -163,7 +189,12 @@ fn profile_svg_and_png() {
             .filter(|l| (l.0.clone(), l.1) == key)
             .map(|l| l.2)
             .collect();
-        assert_eq!(mine, [s.points.len(), 2], "series {:?}: its line, then its legend sample", s.label);
+        assert_eq!(
+            mine,
+            [s.points.len(), 2],
+            "series {:?}: its line, then its legend sample",
+            s.label
+        );
     }
 
     let px = check_png(&png);
@@ -180,20 +211,28 @@ fn single_point_and_empty_profiles_draw() {
     plot_profile(&svg, &png, "One point", "x (m)", "y (MPa)", &one).unwrap();
     let doc = read_svg(&svg);
     assert_eq!(doc.lines.iter().map(|l| l.2).collect::<Vec<_>>(), [1, 2]);
-    assert!(count_color(&check_png(&png), PALETTE[3]) > 20, "a dot for the point");
+    assert!(
+        count_color(&check_png(&png), PALETTE[3]) > 20,
+        "a dot for the point"
+    );
 
     plot_profile(&svg, &png, "Nothing", "x (m)", "y (MPa)", &[]).unwrap();
     let doc = read_svg(&svg);
     assert!(doc.texts.contains("Nothing") && doc.lines.is_empty());
     check_png(&png);
-    assert_eq!(listing(dir.path()), ["p.png", "p.svg"], "replaced in place, nothing left over");
+    assert_eq!(
+        listing(dir.path()),
+        ["p.png", "p.svg"],
+        "replaced in place, nothing left over"
+    );
 }
 
 #[test]
 fn convergence_svg_and_png() {
     let dir = tempfile::tempdir().unwrap();
     let (svg, png) = paths(dir.path(), "convergence");
-    let decay = |n: u32, rate: f64| -> Vec<(u32, f64)> { (1..=n).map(|i| (i, rate.powi(i as i32 - 1))).collect() };
+    let decay =
+        |n: u32, rate: f64| -> Vec<(u32, f64)> { (1..=n).map(|i| (i, rate.powi(i as i32 - 1))).collect() };
     let mut exact = decay(12, 0.5);
     exact.push((13, 0.0)); // a zero residual: drawn on the bottom edge
     let runs = vec![
@@ -205,16 +244,30 @@ fn convergence_svg_and_png() {
     assert_eq!(listing(dir.path()), ["convergence.png", "convergence.svg"]);
 
     let doc = read_svg(&svg);
-    for t in ["Convergence of the residual ratio", "frictionless", "no slip", "iteration"] {
+    for t in [
+        "Convergence of the residual ratio",
+        "frictionless",
+        "no slip",
+        "iteration",
+    ] {
         assert!(doc.texts.contains(t), "text {t:?} in {:?}", doc.texts);
     }
     assert!(!doc.texts.contains("not run"));
     // 0.85^39 = 1.8e-3 and 0.5^11 = 4.9e-4: decades 1e-4 .. 1, one lower for the zero.
-    assert!(doc.texts.contains("1e-5") && doc.texts.contains("1"), "{:?}", doc.texts);
+    assert!(
+        doc.texts.contains("1e-5") && doc.texts.contains("1"),
+        "{:?}",
+        doc.texts
+    );
     assert!(!doc.texts.contains("1e-6"));
     assert_eq!(doc.lines.len(), 4);
     for (k, (_, pts)) in runs[..2].iter().enumerate() {
-        let mine: Vec<usize> = doc.lines.iter().filter(|l| l.0 == hex(PALETTE[k])).map(|l| l.2).collect();
+        let mine: Vec<usize> = doc
+            .lines
+            .iter()
+            .filter(|l| l.0 == hex(PALETTE[k]))
+            .map(|l| l.2)
+            .collect();
         assert_eq!(mine, [pts.len(), 2]);
     }
     assert!(doc.lines.iter().all(|l| !l.1), "convergence lines are solid");
@@ -241,7 +294,15 @@ fn joint_map_svg_and_png() {
     assert_eq!(listing(dir.path()), ["joint_side.png", "joint_side.svg"]);
 
     let doc = read_svg(&svg);
-    for t in ["Joint pile side: states", "theta (deg)", "0", "45", "90", "135", "180"] {
+    for t in [
+        "Joint pile side: states",
+        "theta (deg)",
+        "0",
+        "45",
+        "90",
+        "135",
+        "180",
+    ] {
         assert!(doc.texts.contains(t), "text {t:?} in {:?}", doc.texts);
     }
     for label in STATE_LABELS {
@@ -294,13 +355,21 @@ fn non_finite_and_bad_shapes_are_refused_and_nothing_is_written() {
         plot_joint_map(&svg, &png, "t", &[0.0, 1.0], &[0.0, f64::INFINITY], &st),
         Err(ReportError::NotFinite { .. })
     ));
-    for (s, theta) in [(&[0.0, 1.0, 2.0][..], &[0.0, 90.0][..]), (&[0.0, 1.0], &[0.0, 90.0, 180.0]), (&[1.0, 0.0], &[0.0, 90.0])] {
+    for (s, theta) in [
+        (&[0.0, 1.0, 2.0][..], &[0.0, 90.0][..]),
+        (&[0.0, 1.0], &[0.0, 90.0, 180.0]),
+        (&[1.0, 0.0], &[0.0, 90.0]),
+    ] {
         assert!(matches!(
             plot_joint_map(&svg, &png, "t", s, theta, &st),
             Err(ReportError::Input(_))
         ));
     }
-    assert!(listing(dir.path()).is_empty(), "no file left behind: {:?}", listing(dir.path()));
+    assert!(
+        listing(dir.path()).is_empty(),
+        "no file left behind: {:?}",
+        listing(dir.path())
+    );
 }
 
 /// Renders sample plots into `$AXIJOINT_PLOTS_DIR` for a look by eye:
@@ -311,30 +380,48 @@ fn render_samples_for_review() {
     let dir = PathBuf::from(std::env::var("AXIJOINT_PLOTS_DIR").expect("set AXIJOINT_PLOTS_DIR"));
     std::fs::create_dir_all(&dir).unwrap();
     let a = 0.5;
-    let sample = |label: &str, from: f64, to: f64, dashed: bool, color: usize, f: &dyn Fn(f64) -> f64| Series {
-        label: label.to_owned(),
-        points: (0..=50)
-            .map(|i| from + (to - from) * f64::from(i) / 50.0)
-            .map(|r| (r, f(r)))
-            .collect(),
-        dashed,
-        color,
-    };
+    let sample =
+        |label: &str, from: f64, to: f64, dashed: bool, color: usize, f: &dyn Fn(f64) -> f64| Series {
+            label: label.to_owned(),
+            points: (0..=50)
+                .map(|i| from + (to - from) * f64::from(i) / 50.0)
+                .map(|r| (r, f(r)))
+                .collect(),
+            dashed,
+            color,
+        };
     let prof = vec![
         sample("with joint, pile", 0.0, a, false, 0, &|r| -1.2 + 2.6 * r),
         sample("with joint, footing", a, 3.0, false, 1, &|_| 0.0),
         sample("without joint, pile", 0.0, a, true, 0, &|r| -0.9 + 2.2 * r),
-        sample("without joint, footing", a, 3.0, true, 1, &|r| 0.55 * (a / r).powi(2)),
+        sample("without joint, footing", a, 3.0, true, 1, &|r| {
+            0.55 * (a / r).powi(2)
+        }),
     ];
     let (svg, png) = paths(&dir, "profile");
-    plot_profile(&svg, &png, "Cut a-a (z = 0.75 m), theta = 180 deg", "r (m)", "sigma_z (MPa)", &prof).unwrap();
+    plot_profile(
+        &svg,
+        &png,
+        "Cut a-a (z = 0.75 m), theta = 180 deg",
+        "r (m)",
+        "sigma_z (MPa)",
+        &prof,
+    )
+    .unwrap();
 
     // Linear to 20 %, then hyperbolic, as the paper's Fig. 8.
     let fig8 = |n: u32, knee: f64| -> Vec<(u32, f64)> {
         (1..=n)
             .map(|i| {
                 let i = f64::from(i);
-                (i as u32, if i <= knee { 1.0 - 0.8 * (i - 1.0) / (knee - 1.0) } else { 0.2 * knee / i })
+                (
+                    i as u32,
+                    if i <= knee {
+                        1.0 - 0.8 * (i - 1.0) / (knee - 1.0)
+                    } else {
+                        0.2 * knee / i
+                    },
+                )
             })
             .collect()
     };

@@ -34,8 +34,9 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 const HEADER: &str = "scene,size,refine,M,par,threads,nodes,cells,dof,nnz_K,nnz_L,supernodal,\
-mesh_s,setup_s,assemble_s,factor_s,solve2_s,factorize_all_s,solve_all_s,\
-factorize_all_per_h_s,solve_all_per_h_s,factorize_all_cpu_s,peak_one_mb,peak_mb";
+mesh_s,setup_s,assemble_s,factor_s,solve2_s,assemble_cpu_s,factor_cpu_s,solve2_cpu_s,\
+factorize_all_s,factorize_all_cpu_s,solve_all_s,solve_all_cpu_s,\
+factorize_all_per_h_s,solve_all_per_h_s,peak_one_mb,peak_mb";
 
 struct Args {
     scene: PathBuf,
@@ -79,7 +80,7 @@ fn parse_args() -> Result<Args, String> {
             other => return Err(format!("unknown argument {other}\n{}", usage())),
         }
     }
-    if !(args.size > 0.0) {
+    if args.size.is_nan() || args.size <= 0.0 {
         return Err(format!("--size must be given and positive\n{}", usage()));
     }
     Ok(args)
@@ -98,36 +99,45 @@ fn peak_rss_mb() -> f64 {
         .map_or(f64::NAN, |kb| kb / 1024.0)
 }
 
-/// Median of the run times of `f`, repeated until `budget` seconds are spent
-/// (at least once, at most `max_reps` times).
-fn timed<T>(budget: f64, max_reps: usize, mut f: impl FnMut() -> T) -> (f64, T) {
-    let mut times = Vec::new();
+/// Median wall and CPU times of `f`, repeated until `budget` seconds are
+/// spent (at least once, at most `max_reps` times), and its last result.
+fn timed<T>(budget: f64, max_reps: usize, mut f: impl FnMut() -> T) -> (f64, f64, T) {
+    let (mut wall, mut cpu) = (Vec::new(), Vec::new());
     let start = Instant::now();
     loop {
-        let t = Instant::now();
+        let (t, c) = (Instant::now(), cpu_seconds());
         let out = f();
-        times.push(t.elapsed().as_secs_f64());
-        if times.len() >= max_reps || start.elapsed().as_secs_f64() >= budget {
-            times.sort_by(f64::total_cmp);
-            return (times[times.len() / 2], out);
+        wall.push(t.elapsed().as_secs_f64());
+        cpu.push(cpu_seconds() - c);
+        if wall.len() >= max_reps || start.elapsed().as_secs_f64() >= budget {
+            return (median(wall), median(cpu), out);
         }
         drop(out);
     }
 }
 
-/// CPU time (user + system, all threads) of this process so far, in seconds
-/// (clock ticks of 1/100 s, Linux's `USER_HZ`).
+#[repr(C)]
+struct Timespec {
+    tv_sec: i64,
+    tv_nsec: i64,
+}
+
+extern "C" {
+    fn clock_gettime(clock: i32, tp: *mut Timespec) -> i32;
+}
+
+/// CPU time of all threads of this process so far, in seconds
+/// (`CLOCK_PROCESS_CPUTIME_ID`).
 fn cpu_seconds() -> f64 {
-    std::fs::read_to_string("/proc/self/stat")
-        .ok()
-        .and_then(|s| {
-            let rest = &s[s.rfind(')')? + 1..];
-            let f: Vec<&str> = rest.split_whitespace().collect();
-            // After the command: state is field 3 of stat(5), utime 14, stime 15.
-            let ticks = f.get(11)?.parse::<f64>().ok()? + f.get(12)?.parse::<f64>().ok()?;
-            Some(ticks / 100.0)
-        })
-        .unwrap_or(f64::NAN)
+    const CLOCK_PROCESS_CPUTIME_ID: i32 = 2;
+    let mut t = Timespec { tv_sec: 0, tv_nsec: 0 };
+    // SAFETY: `t` is a valid `struct timespec` (x86_64 / aarch64 Linux layout).
+    let rc = unsafe { clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &mut t) };
+    if rc == 0 {
+        t.tv_sec as f64 + 1e-9 * t.tv_nsec as f64
+    } else {
+        f64::NAN
+    }
 }
 
 fn median(mut v: Vec<f64>) -> f64 {
@@ -203,17 +213,22 @@ fn run(args: &Args) -> Result<String, String> {
     // 1. Per harmonic, one at a time.
     let small = model.n_eq() < 200_000;
     let (budget, reps) = if small { (1.0, 9) } else { (0.0, 1) };
+    // (wall, CPU) per sampled harmonic.
     let (mut asm, mut fac, mut sol) = (Vec::new(), Vec::new(), Vec::new());
     for m in (0..=m_max).take(3) {
-        let (ta, _) = timed(budget, reps, || model.assemble(m));
-        let (tf, factor) = timed(budget, reps, || model.factorize(m));
+        let (ta, ca, _) = timed(budget, reps, || model.assemble(m));
+        let (tf, cf, factor) = timed(budget, reps, || model.factorize(m));
         let factor = factor.map_err(|e| e.to_string())?;
-        let (ts, _) = timed(budget, reps.max(3), || model.solve(&factor, &[&fa, &fb]));
-        eprintln!("  m = {m}: assemble {ta:.4} s, factorize {tf:.4} s, solve(2 RHS) {ts:.4} s");
-        asm.push(ta);
-        fac.push((tf - ta).max(0.0));
-        sol.push(ts);
+        let (ts, cs, _) = timed(budget, reps.max(3), || model.solve(&factor, &[&fa, &fb]));
+        eprintln!(
+            "  m = {m}: assemble {ta:.4} s ({ca:.4} CPU s), factorize {tf:.4} s ({cf:.4}), solve(2 RHS) {ts:.4} s ({cs:.4})"
+        );
+        asm.push((ta, ca));
+        fac.push(((tf - ta).max(0.0), (cf - ca).max(0.0)));
+        sol.push((ts, cs));
     }
+    let wall = |v: &[(f64, f64)]| median(v.iter().map(|x| x.0).collect());
+    let cpu = |v: &[(f64, f64)]| median(v.iter().map(|x| x.1).collect());
     let peak_one = peak_rss_mb();
 
     // 2. The production path: all harmonics, in parallel, factors kept.
@@ -222,12 +237,13 @@ fn run(args: &Args) -> Result<String, String> {
     let factors = model.factorize_all(&ms).map_err(|e| e.to_string())?;
     let fall = t.elapsed().as_secs_f64();
     let fall_cpu = cpu_seconds() - c;
-    let t = Instant::now();
+    let (t, c) = (Instant::now(), cpu_seconds());
     let solved: usize = factors
         .par_iter()
         .map(|f| model.solve(f, &[&fa, &fb]).len())
         .sum();
     let sall = t.elapsed().as_secs_f64();
+    let sall_cpu = cpu_seconds() - c;
     assert_eq!(solved, 2 * ms.len());
     let peak = peak_rss_mb();
     eprintln!("  all {} harmonics: factorize_all {fall:.3} s ({fall_cpu:.2} CPU s), solves {sall:.3} s, peak {peak:.0} MiB", ms.len());
@@ -236,16 +252,20 @@ fn run(args: &Args) -> Result<String, String> {
     let h = ms.len() as f64;
     let scene_name = args.scene.file_stem().map_or("?".into(), |s| s.to_string_lossy().into_owned());
     Ok(format!(
-        "{scene_name},{},{refine},{m_max},{},{},{nodes},{cells},{},{},{nnz_l},{},{mesh_s:.4},{setup_s:.4},{:.6},{:.6},{:.6},{fall:.4},{sall:.4},{:.6},{:.6},{fall_cpu:.2},{peak_one:.1},{peak:.1}",
+        "{scene_name},{},{refine},{m_max},{},{},{nodes},{cells},{},{},{nnz_l},{},{mesh_s:.4},{setup_s:.4},\
+         {:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{fall:.4},{fall_cpu:.4},{sall:.4},{sall_cpu:.4},{:.6},{:.6},{peak_one:.1},{peak:.1}",
         args.size,
         args.par,
         rayon::current_num_threads(),
         model.n_eq(),
         model.nnz(),
         u8::from(supernodal),
-        median(asm),
-        median(fac),
-        median(sol),
+        wall(&asm),
+        wall(&fac),
+        wall(&sol),
+        cpu(&asm),
+        cpu(&fac),
+        cpu(&sol),
         fall / h,
         sall / h,
     ))

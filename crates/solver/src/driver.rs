@@ -393,39 +393,13 @@ pub fn solution_header(scene: &Scene, run: &LinearRun) -> crate::results::Soluti
     }
 }
 
-/// The theta sections of a scene's joint law: the scene's own, or by
-/// default the paper's M + 1 over [0, pi] when the loads are symmetric about
-/// theta = 0 (no antisymmetric family, no torsion), else the full-turn
-/// equivalent (2M equispaced sections).
-pub fn scene_sections(
-    scene: &Scene,
-    loads: &[HarmonicLoads],
-) -> Result<crate::fourier::Sections, SolverError> {
-    use crate::fourier::Sections;
+/// The theta sections of a scene's joint law for its loads (see
+/// [`Scene::theta_sections`]).
+pub fn scene_sections(scene: &Scene, loads: &[HarmonicLoads]) -> Result<crate::fourier::Sections, SolverError> {
     let symmetric_only = loads.iter().all(|h| {
-        h.antisymmetric.iter().all(|&v| v == 0.0)
-            && (h.m > 0 || h.symmetric.iter().skip(2).step_by(3).all(|&v| v == 0.0))
+        h.antisymmetric.iter().all(|&v| v == 0.0) && (h.m > 0 || h.symmetric.iter().skip(2).step_by(3).all(|&v| v == 0.0))
     });
-    let m = scene.harmonics();
-    let invalid = |message: String| crate::scene::SceneError::Invalid {
-        path: scene.path.clone(),
-        key: "sections.theta_deg".into(),
-        message,
-    };
-    let sections = match &scene.sections {
-        Some(s) => {
-            let theta: Vec<f64> = s.theta_deg.iter().map(|d| d.to_radians()).collect();
-            let half = symmetric_only && theta.iter().all(|&t| t <= std::f64::consts::PI + 1e-12);
-            if half {
-                Sections::half_circle(theta).map_err(invalid)?
-            } else {
-                Sections::full_circle(theta).map_err(invalid)?
-            }
-        }
-        None if symmetric_only => Sections::paper(m),
-        None => Sections::full_equispaced(2 * m.max(1) as usize),
-    };
-    Ok(sections)
+    Ok(scene.theta_sections(symmetric_only)?)
 }
 
 /// A solved scene: the linear model and, when a joint is nonlinear, the

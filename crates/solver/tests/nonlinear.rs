@@ -289,6 +289,11 @@ fn unchanging_joint_converges_in_one_iteration_to_the_linear_solution() {
     let mut sc = scene("block_uplift.json");
     let a = radius(&sc);
     sc.harmonics = 4;
+    // The paper's M + 1 sections, asked for explicitly (the default is 2M + 1).
+    sc.sections = Some(axijoint_solver::scene::Sections {
+        theta_deg: Vec::new(),
+        count: Some(4 + 1),
+    });
     let p = -resultant(&mut sc).force[2];
     resultant(&mut sc).moment = [0.0, p * a / 10.0];
     let linear = solve_linear(&sc, None, true).expect("linear run");
@@ -608,6 +613,11 @@ fn eccentric_uplift_converges_with_harmonics_to_the_winkler_reference() {
     let mut errors = Vec::new();
     for m in [4u32, 8, 16, 32] {
         sc.harmonics = m;
+        // The paper's M + 1 sections, asked for explicitly (the default is 2M + 1).
+        sc.sections = Some(axijoint_solver::scene::Sections {
+            theta_deg: Vec::new(),
+            count: Some(m as usize + 1),
+        });
         let start = std::time::Instant::now();
         let run = run(&sc).expect("converges");
         let out = run.outcome.expect("nonlinear joint");
@@ -702,6 +712,7 @@ fn too_few_sections_are_refused() {
     ] {
         sc.sections = Some(axijoint_solver::scene::Sections {
             theta_deg: theta.clone(),
+            count: None,
         });
         match run(&sc) {
             Err(SolverError::Iteration(IterationError::Setup(message))) => {
@@ -729,9 +740,15 @@ fn too_few_sections_are_refused() {
 fn full_circle_sections_equal_half_circle_for_a_symmetric_load() {
     let mut sc = scene("block_uplift.json");
     sc.harmonics = 8;
+    // The paper's 9 sections over [0, pi], mirrored by the 16 below.
+    sc.sections = Some(axijoint_solver::scene::Sections {
+        theta_deg: Vec::new(),
+        count: Some(8 + 1),
+    });
     let half = run(&sc).expect("half circle");
     sc.sections = Some(axijoint_solver::scene::Sections {
         theta_deg: (0..16).map(|k| 22.5 * f64::from(k)).collect(),
+        count: None,
     });
     let full = run(&sc).expect("full circle");
     let (oh, of) = (half.outcome.expect("outcome"), full.outcome.expect("outcome"));

@@ -128,18 +128,23 @@ fn scene_p_table1_values() {
     let specs = scene.joint_specs();
     assert_eq!(specs, vec!["pile_side:pile/footing".parse().unwrap()]);
     assert_eq!(scene.supports[0].fix, Fix::ALL);
-    // The paper's sections 0, pi/4, ..., pi, given explicitly and by default.
+    // The paper's sections 0, pi/4, ..., pi, given explicitly; by default the
+    // dealiased 2M + 1 = 9 over the half turn (4M = 16 over the full turn).
     let expected: Vec<f64> = (0..5).map(|k| PI * k as f64 / 4.0).collect();
-    for (a, b) in scene.section_angles().iter().zip(&expected) {
+    let given = scene.theta_sections(true).unwrap();
+    assert!(given.half);
+    assert_eq!(given.theta.len(), 5);
+    for (a, b) in given.theta.iter().zip(&expected) {
         assert!((a - b).abs() < 1e-15);
     }
     let default = Scene {
         sections: None,
         ..scene.clone()
     };
-    for (a, b) in default.section_angles().iter().zip(&expected) {
-        assert!((a - b).abs() < 1e-15);
-    }
+    let half = default.theta_sections(true).unwrap();
+    assert_eq!(half.theta.len(), 9);
+    assert!((half.theta[1] - PI / 8.0).abs() < 1e-15);
+    assert_eq!(default.theta_sections(false).unwrap().theta.len(), 16);
     assert_eq!(scene.solver.epsilon, 1e-6);
     assert_eq!(scene.solver.max_iterations, 500);
     assert_eq!(scene.cuts.len(), 2);
@@ -185,7 +190,7 @@ fn defaults_of_a_minimal_scene() {
     assert_eq!(scene.solver.epsilon, 1e-6);
     assert_eq!(scene.solver.max_iterations, 500);
     assert!(scene.outputs.csv && !scene.outputs.vtu);
-    assert_eq!(scene.section_angles(), vec![0.0]);
+    assert_eq!(scene.theta_sections(false).unwrap().theta, vec![0.0]);
     match &scene.loads[0] {
         Load::Traction(t) => {
             assert_eq!(t.family, Family::Symmetric);

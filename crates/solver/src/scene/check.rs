@@ -85,14 +85,23 @@ impl Scene {
         }
         if let Some(sections) = &self.sections {
             let t = &sections.theta_deg;
-            self.finite("sections.theta_deg", t)?;
-            let in_range = t.iter().all(|&a| (0.0..360.0).contains(&a));
-            let increasing = t.windows(2).all(|w| w[0] < w[1]);
-            if t.is_empty() || !in_range || !increasing {
-                return Err(self.invalid(
-                    "sections.theta_deg",
-                    "give at least one angle, in degrees in [0, 360), strictly increasing",
-                ));
+            match sections.count {
+                Some(_) if !t.is_empty() => {
+                    return Err(self.invalid("sections", "give either theta_deg or count, not both"));
+                }
+                Some(0) => return Err(self.invalid("sections.count", "must be at least 1")),
+                Some(_) => {}
+                None => {
+                    self.finite("sections.theta_deg", t)?;
+                    let in_range = t.iter().all(|&a| (0.0..360.0).contains(&a));
+                    let increasing = t.windows(2).all(|w| w[0] < w[1]);
+                    if t.is_empty() || !in_range || !increasing {
+                        return Err(self.invalid(
+                            "sections.theta_deg",
+                            "give at least one angle, in degrees in [0, 360), strictly increasing",
+                        ));
+                    }
+                }
             }
         }
         let eps = self.solver.epsilon;

@@ -158,21 +158,38 @@ impl Scene {
         self.joints.iter().map(|(name, j)| j.spec(name)).collect()
     }
 
-    /// Theta of the sections in radians: the given ones, or the paper's
-    /// M + 1 sections `0, pi/M, ..., pi` (one section, theta = 0, for M = 0).
+    /// The theta sections of the joint law. `symmetric_only`: the loads are
+    /// symmetric about theta = 0 (no antisymmetric family, no torsion), so a
+    /// set over [0, pi] stands for the whole turn.
     ///
-    /// The paper's sections cover loads symmetric about theta = 0; for
-    /// antisymmetric loads give sections over the full turn.
-    pub fn section_angles(&self) -> Vec<f64> {
+    /// Given angles are used as they are (a half set when `symmetric_only`
+    /// and all lie in [0, 180] degrees); `count` spaces that many evenly;
+    /// by default the set is dealiased: 2M + 1 over the half turn (4M over
+    /// the full turn), so that the law's released traction, which has
+    /// content above M, does not fold back onto the harmonics 0..=M.
+    pub fn theta_sections(&self, symmetric_only: bool) -> Result<crate::fourier::Sections, SceneError> {
+        use crate::fourier::Sections as Set;
+        let m = self.harmonics as usize;
+        let invalid = |message: String| SceneError::Invalid {
+            path: self.path.clone(),
+            key: "sections".into(),
+            message,
+        };
         match &self.sections {
-            Some(s) => s.theta_deg.iter().map(|d| d.to_radians()).collect(),
-            None if self.harmonics == 0 => vec![0.0],
-            None => {
-                let m = self.harmonics;
-                (0..=m)
-                    .map(|k| std::f64::consts::PI * f64::from(k) / f64::from(m))
-                    .collect()
+            Some(s) if s.count.is_some() => {
+                let n = s.count.unwrap_or(1);
+                Ok(if symmetric_only { Set::half_equispaced(n) } else { Set::full_equispaced(n) })
             }
+            Some(s) => {
+                let theta: Vec<f64> = s.theta_deg.iter().map(|d| d.to_radians()).collect();
+                if symmetric_only && theta.iter().all(|&t| t <= std::f64::consts::PI + 1e-12) {
+                    Set::half_circle(theta).map_err(invalid)
+                } else {
+                    Set::full_circle(theta).map_err(invalid)
+                }
+            }
+            None if symmetric_only => Ok(Set::half_equispaced(2 * m + 1)),
+            None => Ok(Set::full_equispaced((4 * m).max(1))),
         }
     }
 }

@@ -205,7 +205,12 @@ pub struct Support {
 #[serde(deny_unknown_fields)]
 pub struct Sections {
     /// Angles in degrees, strictly increasing, in [0, 360).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub theta_deg: Vec<f64>,
+    /// Or a number of evenly spaced sections: over [0, 180] degrees (both
+    /// ends) for loads symmetric about theta = 0, else over the full turn.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub count: Option<usize>,
 }
 
 /// The iteration scheme of the nonlinear joint solution.
