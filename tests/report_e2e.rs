@@ -71,7 +71,11 @@ fn pure_bending_cut_is_exact() {
                 let exact = [0.0, s * r * t.cos(), 0.0, 0.0, 0.0, 0.0];
                 for (k, e) in exact.iter().enumerate() {
                     let err = (v(5 + k) - e).abs();
-                    assert!(err < 1e-6 * scale, "{cut} theta {theta} r {r}: component {k} {} vs {e}", v(5 + k));
+                    assert!(
+                        err < 1e-6 * scale,
+                        "{cut} theta {theta} r {r}: component {k} {} vs {e}",
+                        v(5 + k)
+                    );
                 }
                 checked += 1;
             }
@@ -91,7 +95,9 @@ fn sigma_z_at_pile_side(path: &Path) -> Vec<(String, f64)> {
 
 fn max_abs_sigma_z(path: &Path) -> f64 {
     let (_, rows) = read_csv(path);
-    rows.iter().map(|r| r[6].parse::<f64>().unwrap().abs()).fold(0.0, f64::max)
+    rows.iter()
+        .map(|r| r[6].parse::<f64>().unwrap().abs())
+        .fold(0.0, f64::max)
 }
 
 /// Scene P: on a-a at theta = pi the joint opens and the two sides of r = a
@@ -113,7 +119,10 @@ fn scene_p_jump_and_report_regeneration() {
     let bodies: Vec<&str> = rows.iter().map(|r| r.0.as_str()).collect();
     assert_eq!(bodies, ["pile", "footing"], "two rows at r = a, one per body");
     let peak = max_abs_sigma_z(&joint);
-    assert!((rows[0].1 - rows[1].1).abs() > 0.5 * peak, "jump {rows:?}, peak {peak}");
+    assert!(
+        (rows[0].1 - rows[1].1).abs() > 0.5 * peak,
+        "jump {rows:?}, peak {peak}"
+    );
 
     let bonded = out.join("without_joints");
     let report = axijoint(&["report", bonded.to_str().unwrap()]);
@@ -122,7 +131,10 @@ fn scene_p_jump_and_report_regeneration() {
     let rows = sigma_z_at_pile_side(&b);
     assert_eq!(rows.len(), 2);
     let peak = max_abs_sigma_z(&b);
-    assert!((rows[0].1 - rows[1].1).abs() < 0.02 * peak, "bonded {rows:?}, peak {peak}");
+    assert!(
+        (rows[0].1 - rows[1].1).abs() < 0.02 * peak,
+        "bonded {rows:?}, peak {peak}"
+    );
 
     // The joint CSV: header, states, and opening only where open.
     let (header, jrows) = read_csv(&out.join("joint_pile_side.csv"));
@@ -149,7 +161,10 @@ fn scene_p_jump_and_report_regeneration() {
         assert!(out.join(f.as_str().unwrap()).is_file(), "{f} listed but missing");
     }
     let j = &summary["joints"]["pile_side"];
-    let total: f64 = ["open_area", "slip_area", "stick_area"].iter().map(|k| j[k].as_f64().unwrap()).sum();
+    let total: f64 = ["open_area", "slip_area", "stick_area"]
+        .iter()
+        .map(|k| j[k].as_f64().unwrap())
+        .sum();
     // The swept joint area is 2 pi a L = pi.
     assert!((total - std::f64::consts::PI).abs() < 1e-9, "{total}");
     assert!(j["open_area"].as_f64().unwrap() > 0.0);

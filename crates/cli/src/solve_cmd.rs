@@ -1,10 +1,11 @@
 //! `axijoint solve` and `axijoint run`.
 
 use anyhow::{Context, Result};
-use axijoint_solver::driver::{solution_header, solve_scene, Run};
+use axijoint_report::cuts::profile_values;
+use axijoint_solver::driver::{solution_header, solve_scene, solve_scene_auto, Run};
 use axijoint_solver::iteration::IterationRecord;
 use axijoint_solver::results::{write_solution, JointFieldFile, SolutionHeader};
-use axijoint_solver::scene::Scene;
+use axijoint_solver::scene::{Harmonics, Scene};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::path::{Path, PathBuf};
@@ -52,7 +53,7 @@ pub fn load_scene(path: &Path, common: &CommonArgs) -> Result<Scene> {
         scene.mesh.parameters.insert(name, value);
     }
     if let Some(m) = common.harmonics {
-        scene.harmonics = m;
+        scene.harmonics = m.into();
     }
     if let Some(e) = common.epsilon {
         anyhow::ensure!(e > 0.0 && e < 1.0, "--epsilon {e}: must lie in (0, 1)");
@@ -87,7 +88,10 @@ pub fn default_scene() -> Result<PathBuf> {
 /// Solves, writes the solution folder, prints a summary; returns the header.
 pub fn solve_and_write(scene_path: &Path, common: &CommonArgs) -> Result<(Scene, PathBuf, SolutionHeader)> {
     let scene = load_scene(scene_path, common)?;
-    let out = common.output.clone().unwrap_or_else(|| default_output(scene_path));
+    let out = common
+        .output
+        .clone()
+        .unwrap_or_else(|| default_output(scene_path));
     let header = solve_to(&scene, &out, common.quiet)?;
     print_summary(scene_path, &scene, &header, &out);
     Ok((scene, out, header))
@@ -96,8 +100,15 @@ pub fn solve_and_write(scene_path: &Path, common: &CommonArgs) -> Result<(Scene,
 /// Solves `scene` into the solution folder `out`.
 pub fn solve_to(scene: &Scene, out: &Path, quiet: bool) -> Result<SolutionHeader> {
     let tmp = tempfile::tempdir().context("creating a temporary folder")?;
-    let is_geo = scene.mesh_path().extension().is_some_and(|e| e.eq_ignore_ascii_case("geo"));
-    let msh = if is_geo { tmp.path().join("mesh.msh") } else { scene.mesh_path() };
+    let is_geo = scene
+        .mesh_path()
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("geo"));
+    let msh = if is_geo {
+        tmp.path().join("mesh.msh")
+    } else {
+        scene.mesh_path()
+    };
 
     let bar = if quiet {
         ProgressBar::hidden()
@@ -108,20 +119,41 @@ pub fn solve_to(scene: &Scene, out: &Path, quiet: bool) -> Result<SolutionHeader
         b.set_message("meshing and factorizing");
         b
     };
-    let result = solve_scene(scene, Some(&msh), |r: &IterationRecord| {
+    let progress = |r: &IterationRecord| {
         bar.set_message(format!(
             "iteration {:>4}  residual ratio {:.3e}  open {}  slip {}",
             r.iteration, r.ratio, r.open, r.slip
         ));
-    });
+    };
+    let result = if scene.harmonics == Harmonics::Auto {
+        solve_scene_auto(
+            scene,
+            Some(&msh),
+            scene.solver.harmonics_tolerance,
+            scene.solver.max_harmonics,
+            |model, u| profile_values(scene, &model.mesh, u),
+            progress,
+        )
+    } else {
+        solve_scene(scene, Some(&msh), progress).map(|run| (scene.clone(), run))
+    };
     bar.finish_and_clear();
-    let run: Run = result?;
-    let mut header = solution_header(scene, &run.linear);
+    let (solved, run): (Scene, Run) = result?;
+    let mut header = solution_header(&solved, &run.linear);
     if let Some(outcome) = &run.outcome {
         header.extra = serde_json::json!({
             "iterations": outcome.history.len(),
             "sections_deg": outcome.field.sections.theta.iter().map(|t| t.to_degrees()).collect::<Vec<_>>(),
             "history": outcome.history,
+            "released_spectrum": outcome.released_spectrum,
+            "harmonic_check": run.harmonic_check,
+        });
+    }
+    if !run.auto_steps.is_empty() {
+        header.extra["auto_harmonics"] = serde_json::json!({
+            "chosen": solved.harmonics(),
+            "tolerance": scene.solver.harmonics_tolerance,
+            "steps": run.auto_steps,
         });
     }
     let joints = run.outcome.as_ref().map(|o| {
@@ -161,6 +193,34 @@ fn print_summary(path: &Path, scene: &Scene, header: &SolutionHeader, out: &Path
                 last["stick"]
             );
         }
+    }
+    if let Some(c) = header.extra.get("harmonic_check").filter(|c| !c.is_null()) {
+        match (c["face_change"].as_f64(), c["area_change"].as_f64()) {
+            (Some(f), Some(a)) => println!(
+                "  harmonics: 0..={} against 0..={}: loaded-face displacement changes {f:.2e}, joint open/slip area {a:.2e} (relative)",
+                c["m"], c["m_half"]
+            ),
+            _ => println!("  harmonics: no M/2 comparison: {}", c["note"].as_str().unwrap_or("?")),
+        }
+    }
+    if let Some(a) = header.extra.get("auto_harmonics") {
+        let steps: Vec<String> = a["steps"]
+            .as_array()
+            .map(|v| {
+                v.iter()
+                    .map(|s| match s["change"].as_f64() {
+                        Some(c) => format!("M={} ({:.1e})", s["m"], c),
+                        None => format!("M={}", s["m"]),
+                    })
+                    .collect()
+            })
+            .unwrap_or_default();
+        println!(
+            "  harmonics chosen automatically: M = {} (profile change < {} ; steps {})",
+            a["chosen"],
+            a["tolerance"],
+            steps.join(", ")
+        );
     }
     let u = &scene.units;
     for (face, d) in &header.loaded_faces {
@@ -203,5 +263,5 @@ pub fn run_run(args: &RunArgs) -> Result<()> {
         solve_to(&bonded, &dir, true)?;
         println!("  comparison without joints: {}", dir.display());
     }
-    crate::report_cmd::report(&out)
+    crate::report_cmd::report(&out, &[])
 }

@@ -10,7 +10,12 @@ use std::path::Path;
 
 /// Writes rows through a temporary file renamed into place, refusing
 /// non-finite numbers.
-fn write_atomic(path: &Path, header: &[String], rows: &[Vec<String>], numbers: &[f64]) -> Result<(), ReportError> {
+fn write_atomic(
+    path: &Path,
+    header: &[String],
+    rows: &[Vec<String>],
+    numbers: &[f64],
+) -> Result<(), ReportError> {
     if let Some(i) = numbers.iter().position(|v| !v.is_finite()) {
         return Err(ReportError::NotFinite {
             path: path.to_path_buf(),
@@ -50,7 +55,13 @@ pub fn write_cut(path: &Path, rows: &[CutRow], length: &str, stress: &str) -> Re
     let body: Vec<Vec<String>> = rows
         .iter()
         .map(|r| {
-            let mut v = vec![num(r.s), num(r.r), num(r.z), format!("{}", r.theta_deg), r.body.clone()];
+            let mut v = vec![
+                num(r.s),
+                num(r.r),
+                num(r.z),
+                format!("{}", r.theta_deg),
+                r.body.clone(),
+            ];
             v.extend(r.stress.iter().map(|&x| num(x)));
             v
         })
@@ -82,7 +93,9 @@ pub fn write_joint(
         "state".into(),
     ]
     .to_vec();
-    let mut order: Vec<usize> = (0..field.points.len()).filter(|&i| field.points[i].joint == joint).collect();
+    let mut order: Vec<usize> = (0..field.points.len())
+        .filter(|&i| field.points[i].joint == joint)
+        .collect();
     order.sort_by(|&a, &b| field.points[a].s.total_cmp(&field.points[b].s));
     let mut rows = Vec::new();
     let mut numbers = Vec::new();

@@ -96,7 +96,13 @@ fn crossing(a: [f64; 2], b: [f64; 2], p: [f64; 2], q: [f64; 2]) -> Option<f64> {
 
 /// The profile along `points` at each of `theta_deg`: rows by theta, then
 /// position, then body (cell order). Points outside the mesh give no row.
-pub fn profile(field: &Field, locator: &Locator, points: &[[f64; 2]], spacing: f64, theta_deg: &[f64]) -> Vec<CutRow> {
+pub fn profile(
+    field: &Field,
+    locator: &Locator,
+    points: &[[f64; 2]],
+    spacing: f64,
+    theta_deg: &[f64],
+) -> Vec<CutRow> {
     let samples = sample_positions(field.mesh, points, spacing);
     let located: Vec<Vec<crate::field::Location>> = samples
         .iter()
@@ -128,4 +134,34 @@ pub fn profile(field: &Field, locator: &Locator, points: &[[f64; 2]], spacing: f
         }
     }
     rows
+}
+
+/// Every stress of every cut of `scene` at its angles, as one vector (the
+/// measure of the automatic choice of harmonics: same mesh, same samples).
+pub fn profile_values(
+    scene: &axijoint_solver::scene::Scene,
+    mesh: &Mesh,
+    u: &axijoint_solver::driver::Displacements,
+) -> Vec<f64> {
+    let materials: Vec<_> = mesh
+        .bodies
+        .iter()
+        .map(|b| scene.materials.get(&b.name).map(|m| m.elastic()))
+        .collect::<Option<_>>()
+        .unwrap_or_default();
+    if materials.len() != mesh.bodies.len() {
+        return Vec::new();
+    }
+    let field = Field {
+        mesh,
+        materials: &materials,
+        u,
+    };
+    let locator = Locator::new(mesh);
+    scene
+        .cuts
+        .iter()
+        .flat_map(|c| profile(&field, &locator, &[c.from, c.to], c.spacing, &c.theta_deg))
+        .flat_map(|r| r.stress)
+        .collect()
 }

@@ -115,7 +115,9 @@ pub fn inverse_map(mesh: &Mesh, cell: usize, p: [f64; 2], tol: f64) -> Option<[f
         }
     }
     // Inside, with a tolerance scaled from length to the reference cell.
-    let h = coords.iter().fold(0.0f64, |a, q| a.max((q[0] - coords[0][0]).hypot(q[1] - coords[0][1])));
+    let h = coords.iter().fold(0.0f64, |a, q| {
+        a.max((q[0] - coords[0][0]).hypot(q[1] - coords[0][1]))
+    });
     let t = 1e-7_f64.max(4.0 * tol / h.max(f64::MIN_POSITIVE));
     let inside = if c.kind.n_corners() == 3 {
         xi[0] >= -t && xi[1] >= -t && xi[0] + xi[1] <= 1.0 + t
@@ -126,7 +128,14 @@ pub fn inverse_map(mesh: &Mesh, cell: usize, p: [f64; 2], tol: f64) -> Option<[f
 }
 
 /// Stress components in the order of the outputs.
-pub const STRESS_NAMES: [&str; 6] = ["sigma_r", "sigma_z", "sigma_theta", "tau_rz", "tau_rtheta", "tau_ztheta"];
+pub const STRESS_NAMES: [&str; 6] = [
+    "sigma_r",
+    "sigma_z",
+    "sigma_theta",
+    "tau_rz",
+    "tau_rtheta",
+    "tau_ztheta",
+];
 
 /// Displacements and stresses of a solution.
 pub struct Field<'a> {
@@ -163,7 +172,11 @@ impl Field<'_> {
         for h in &self.u.harmonics {
             let (sin, cos) = (f64::from(h.m) * theta).sin_cos();
             for (amp, in_plane, shear_theta) in [(&h.symmetric, cos, sin), (&h.antisymmetric, sin, -cos)] {
-                let (a, b) = if h.m == 0 { (1.0, 1.0) } else { (in_plane, shear_theta) };
+                let (a, b) = if h.m == 0 {
+                    (1.0, 1.0)
+                } else {
+                    (in_plane, shear_theta)
+                };
                 if (a == 0.0 && b == 0.0) || (h.m == 0 && std::ptr::eq(amp, &h.antisymmetric)) {
                     continue;
                 }
@@ -188,6 +201,9 @@ impl Field<'_> {
     /// the element's own values at its nodes.
     pub fn cell_node_stress(&self, cell: usize, theta: f64) -> Vec<[f64; 6]> {
         let kind: CellKind = self.mesh.cells[cell].kind;
-        kind.ref_coords().iter().map(|&xi| self.stress(cell, xi, theta)).collect()
+        kind.ref_coords()
+            .iter()
+            .map(|&xi| self.stress(cell, xi, theta))
+            .collect()
     }
 }

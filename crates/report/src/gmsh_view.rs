@@ -66,8 +66,8 @@ pub fn write_gmsh_view(path: &Path, field: &Field, theta_deg: &[f64]) -> Result<
         .map(|(j, joint)| mesh.curve(&joint.name).map_or(100_000 + j as i32, |c| c.tag))
         .collect();
     let _ = writeln!(w, "$PhysicalNames\n{}", mesh.bodies.len() + mesh.joints.len());
-    for j in 0..mesh.joints.len() {
-        let _ = writeln!(w, "1 {} \"{}\"", joint_tags[j], quote(&mesh.joints[j].name));
+    for (joint, tag) in mesh.joints.iter().zip(&joint_tags) {
+        let _ = writeln!(w, "1 {tag} \"{}\"", quote(&joint.name));
     }
     for b in &mesh.bodies {
         let _ = writeln!(w, "2 {} \"{}\"", b.tag, quote(&b.name));
@@ -85,7 +85,11 @@ pub fn write_gmsh_view(path: &Path, field: &Field, theta_deg: &[f64]) -> Result<
     let _ = writeln!(w, "$Elements\n{}", mesh.cells.len() + n_lines);
     for (c, cell) in mesh.cells.iter().enumerate() {
         let physical = mesh.bodies[cell.body].tag;
-        let entity = if cell.entity > 0 { cell.entity } else { physical.max(1) };
+        let entity = if cell.entity > 0 {
+            cell.entity
+        } else {
+            physical.max(1)
+        };
         let _ = write!(w, "{} {} 2 {physical} {entity}", c + 1, gmsh_type(cell.kind));
         for &n in &cell.nodes {
             let _ = write!(w, " {}", n + 1);
@@ -120,7 +124,9 @@ pub fn write_gmsh_view(path: &Path, field: &Field, theta_deg: &[f64]) -> Result<
         );
         for n in 0..mesh.nodes.len() {
             let u = field.displacement(n, theta);
-            check_finite(path, &u, || format!("the displacement of node {n} at theta = {deg} deg"))?;
+            check_finite(path, &u, || {
+                format!("the displacement of node {n} at theta = {deg} deg")
+            })?;
             let _ = writeln!(w, "{} {:e} {:e} {:e}", n + 1, u[0], u[1], u[2]);
         }
         let _ = writeln!(w, "$EndNodeData");

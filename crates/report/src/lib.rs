@@ -15,14 +15,16 @@
 //! | [`field::Field`] | displacement and stress synthesized at any theta, per body |
 //! | [`cuts::profile`] | a cut's rows, two per interface crossing |
 //! | [`csv_out`] | CSV writers |
+//! | [`plots`] | SVG and PNG plots (embedded font) |
+//! | [`vtu`], [`gmsh_view`] | the field revolved for ParaView; a gmsh view |
 //! | [`write_report`] | every output of a solution folder |
 
 pub mod csv_out;
 pub mod cuts;
 pub mod error;
 pub mod field;
-pub mod plots;
 pub mod gmsh_view;
+pub mod plots;
 pub mod vtu;
 
 pub use error::ReportError;
@@ -38,53 +40,224 @@ pub struct Written {
     pub files: Vec<PathBuf>,
 }
 
-/// Writes every report output of a saved solution into `dir` (the solution
-/// folder itself): cut CSVs, joint CSVs, the convergence CSV.
-pub fn write_report(dir: &Path, saved: &SavedSolution) -> Result<Written, ReportError> {
-    let scene = &saved.header.scene;
-    let materials: Vec<_> = saved
+/// The materials of a saved solution's bodies.
+fn materials(saved: &SavedSolution) -> Result<Vec<axijoint_solver::material::Elastic>, ReportError> {
+    saved
         .mesh
         .bodies
         .iter()
         .map(|b| {
-            scene
+            saved
+                .header
+                .scene
                 .materials
                 .get(&b.name)
                 .map(|m| m.elastic())
                 .ok_or_else(|| ReportError::Input(format!("no material for body '{}'", b.name)))
         })
-        .collect::<Result<_, _>>()?;
+        .collect()
+}
+
+/// The iteration history saved in a solution's header, if any.
+pub fn history(saved: &SavedSolution) -> Result<Option<Vec<IterationRecord>>, ReportError> {
+    saved
+        .header
+        .extra
+        .get("history")
+        .map(|h| serde_json::from_value(h.clone()).map_err(|e| ReportError::Input(format!("history: {e}"))))
+        .transpose()
+}
+
+/// Writes every report output of a saved solution into `dir` (the solution
+/// folder itself), as the scene's `outputs` asks: cut, joint and
+/// convergence CSVs; plots of the cuts (with `companion`, the run without
+/// joints, dashed), of the joint states and of the convergence (with the
+/// `compare` runs' histories on the same axis); the revolved `.vtu` and the
+/// gmsh view.
+pub fn write_report(
+    dir: &Path,
+    saved: &SavedSolution,
+    companion: Option<&SavedSolution>,
+    compare: &[(String, Vec<IterationRecord>)],
+) -> Result<Written, ReportError> {
+    let scene = &saved.header.scene;
+    let outputs = &scene.outputs;
+    let mats = materials(saved)?;
     let field = field::Field {
         mesh: &saved.mesh,
-        materials: &materials,
+        materials: &mats,
         u: &saved.displacements,
     };
     let locator = field::Locator::new(&saved.mesh);
+    let companion_parts = match companion {
+        Some(c) => Some((materials(c)?, field::Locator::new(&c.mesh))),
+        None => None,
+    };
     let (length, stress) = (&scene.units.length, &scene.units.stress);
     let mut written = Written::default();
+    let mut add = |name: String| written.files.push(name.into());
     for cut in &scene.cuts {
-        for &t in &cut.theta_deg {
+        let mut series = Vec::new();
+        for (k, &t) in cut.theta_deg.iter().enumerate() {
             let rows = cuts::profile(&field, &locator, &[cut.from, cut.to], cut.spacing, &[t]);
-            let name = format!("cut_{}_theta{}.csv", cut.name, fmt_angle(t));
-            csv_out::write_cut(&dir.join(&name), &rows, length, stress)?;
-            written.files.push(name.into());
+            if outputs.csv {
+                let name = format!("cut_{}_theta{}.csv", cut.name, fmt_angle(t));
+                csv_out::write_cut(&dir.join(&name), &rows, length, stress)?;
+                add(name);
+            }
+            let c = cut.component_index().unwrap_or(1);
+            let with_joints = !saved.mesh.joints.is_empty();
+            series.extend(by_body(
+                &rows,
+                c,
+                t,
+                k,
+                &saved.mesh,
+                if with_joints { "with joint" } else { "" },
+                false,
+            ));
+            if let (Some(other), Some((m, loc))) = (companion, &companion_parts) {
+                let f = field::Field {
+                    mesh: &other.mesh,
+                    materials: m,
+                    u: &other.displacements,
+                };
+                let rows = cuts::profile(&f, loc, &[cut.from, cut.to], cut.spacing, &[t]);
+                series.extend(by_body(&rows, c, t, k, &other.mesh, "without joint", true));
+            }
+        }
+        if outputs.plots {
+            let name = format!("cut_{}", cut.name);
+            plots::plot_profile(
+                &dir.join(format!("{name}.svg")),
+                &dir.join(format!("{name}.png")),
+                &format!(
+                    "{}: {} along {} ({})",
+                    scene.title, cut.component, cut.name, stress
+                ),
+                &format!("distance along the cut ({length})"),
+                &format!("{} ({stress})", cut.component),
+                &series,
+            )?;
+            add(format!("{name}.svg"));
+            add(format!("{name}.png"));
         }
     }
     let joints = read_joint_field(dir).map_err(|e| ReportError::Input(e.to_string()))?;
     if let Some(jf) = &joints {
         for j in &saved.mesh.joints {
-            let name = format!("joint_{}.csv", j.name);
-            csv_out::write_joint(&dir.join(&name), jf, &j.name, length, stress)?;
-            written.files.push(name.into());
+            if outputs.csv {
+                let name = format!("joint_{}.csv", j.name);
+                csv_out::write_joint(&dir.join(&name), jf, &j.name, length, stress)?;
+                add(name);
+            }
+            if outputs.plots {
+                let mut order: Vec<usize> = (0..jf.points.len())
+                    .filter(|&i| jf.points[i].joint == j.name)
+                    .collect();
+                order.sort_by(|&a, &b| jf.points[a].s.total_cmp(&jf.points[b].s));
+                order.dedup_by(|a, b| jf.points[*a].s == jf.points[*b].s);
+                let s: Vec<f64> = order.iter().map(|&i| jf.points[i].s).collect();
+                let states: Vec<Vec<_>> = jf
+                    .values
+                    .iter()
+                    .map(|v| order.iter().map(|&i| v[i].state).collect())
+                    .collect();
+                let name = format!("joint_{}_states", j.name);
+                plots::plot_joint_map(
+                    &dir.join(format!("{name}.svg")),
+                    &dir.join(format!("{name}.png")),
+                    &format!("{}: joint '{}' state (s in {length})", scene.title, j.name),
+                    &s,
+                    &jf.sections_deg,
+                    &states,
+                )?;
+                add(format!("{name}.svg"));
+                add(format!("{name}.png"));
+            }
         }
     }
-    if let Some(h) = saved.header.extra.get("history") {
-        let history: Vec<IterationRecord> =
-            serde_json::from_value(h.clone()).map_err(|e| ReportError::Input(format!("history: {e}")))?;
-        csv_out::write_convergence(&dir.join("convergence.csv"), &history)?;
-        written.files.push("convergence.csv".into());
+    if let Some(history) = history(saved)? {
+        if outputs.csv {
+            csv_out::write_convergence(&dir.join("convergence.csv"), &history)?;
+            add("convergence.csv".into());
+        }
+        if outputs.plots {
+            let mut runs = vec![(
+                scene.title.clone(),
+                history.iter().map(|r| (r.iteration, r.ratio)).collect(),
+            )];
+            runs.extend(
+                compare
+                    .iter()
+                    .map(|(label, h)| (label.clone(), h.iter().map(|r| (r.iteration, r.ratio)).collect())),
+            );
+            plots::plot_convergence(
+                &dir.join("convergence.svg"),
+                &dir.join("convergence.png"),
+                "Residual ratio (Eq. 12) against iteration",
+                &runs,
+            )?;
+            add("convergence.svg".into());
+            add("convergence.png".into());
+        }
+    }
+    if outputs.vtu {
+        let path = dir.join("field.vtu");
+        vtu::write_vtu(&path, &field, outputs.vtu_sections, joints.as_ref())?;
+        add("field.vtu".into());
+        if joints.is_some() && !saved.mesh.joints.is_empty() {
+            add(vtu::joints_path(&path)
+                .file_name()
+                .map_or_else(String::new, |n| n.to_string_lossy().into_owned()));
+        }
+    }
+    if outputs.gmsh_views {
+        let mut thetas: Vec<f64> = scene
+            .cuts
+            .iter()
+            .flat_map(|c| c.theta_deg.iter().copied())
+            .collect();
+        thetas.sort_by(f64::total_cmp);
+        thetas.dedup();
+        if thetas.is_empty() {
+            thetas.push(0.0);
+        }
+        gmsh_view::write_gmsh_view(&dir.join("field_views.msh"), &field, &thetas)?;
+        add("field_views.msh".into());
     }
     Ok(written)
+}
+
+/// One plot series per body of a cut's rows (a jump at an interface shows
+/// as two lines).
+fn by_body(
+    rows: &[cuts::CutRow],
+    component: usize,
+    theta: f64,
+    k: usize,
+    mesh: &axijoint_mesh::Mesh,
+    variant: &str,
+    dashed: bool,
+) -> Vec<plots::Series> {
+    mesh.bodies
+        .iter()
+        .enumerate()
+        .filter_map(|(b, body)| {
+            let points: Vec<(f64, f64)> = rows
+                .iter()
+                .filter(|r| r.body == body.name)
+                .map(|r| (r.s, r.stress[component]))
+                .collect();
+            let sep = if variant.is_empty() { "" } else { ", " };
+            (!points.is_empty()).then(|| plots::Series {
+                label: format!("theta {theta} deg, {}{sep}{variant}", body.name),
+                points,
+                dashed,
+                color: k * mesh.bodies.len() + b,
+            })
+        })
+        .collect()
 }
 
 /// An angle for file names: `0`, `180`, `22.5`.

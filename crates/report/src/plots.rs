@@ -9,7 +9,11 @@
 //! and a refused input (a NaN, an infinity) leaves no file at all.
 //!
 //! Dashed lines: the SVG keeps each series as one `<polyline>` and marks the
-//! dashed ones with `stroke-dasharray`; the PNG draws the dashes.
+//! dashed ones with `stroke-dasharray`; the PNG draws the dashes. The SVG
+//! names the generic `sans-serif` family (the viewer's font; the embedded
+//! one gives plotters its text metrics); the PNG draws lines anti-aliased
+//! and text with the embedded font, glyph by glyph, through a small wrapper
+//! around plotters' bitmap backend.
 //!
 //! | item | draws |
 //! |---|---|

@@ -124,14 +124,17 @@ pub fn revolved_cell_type(kind: CellKind) -> (u8, usize) {
 
 /// The joint file written next to `path`: `dir/stem_joints.vtu`.
 pub fn joints_path(path: &Path) -> PathBuf {
-    let stem = path.file_stem().map_or_else(|| "view".into(), |s| s.to_string_lossy().into_owned());
+    let stem = path
+        .file_stem()
+        .map_or_else(|| "view".into(), |s| s.to_string_lossy().into_owned());
     path.with_file_name(format!("{stem}_joints.vtu"))
 }
 
 /// Writes the 3D field revolved over `n_sections` sections of the full turn
 /// to `path` (see the module documentation for the layout), and, when
 /// `joints` is given and the mesh has joints, the joint surfaces with their
-/// state to [`joints_path`]`(path)`.
+/// state to [`joints_path`]`(path)` (without a joint field no joint file is
+/// written, and none already there is touched).
 ///
 /// `n_sections` must be at least 3. Nothing is written when a value is not
 /// finite ([`ReportError::NotFinite`]) or the joint field does not match the
@@ -212,7 +215,11 @@ pub(crate) fn commit(tmp: &Path, path: &Path) -> Result<(), ReportError> {
 }
 
 /// Fails with [`ReportError::NotFinite`] unless every value is finite.
-pub(crate) fn check_finite(path: &Path, values: &[f64], what: impl FnOnce() -> String) -> Result<(), ReportError> {
+pub(crate) fn check_finite(
+    path: &Path,
+    values: &[f64],
+    what: impl FnOnce() -> String,
+) -> Result<(), ReportError> {
     if values.iter().all(|v| v.is_finite()) {
         Ok(())
     } else {
@@ -325,7 +332,9 @@ impl Grid {
                 ("Vectors", "displacement"),
                 ("Tensors", "stress"),
             ] {
-                let taken = el.attributes().any(|a| a.is_ok_and(|a| a.key.as_ref() == role.as_bytes()));
+                let taken = el
+                    .attributes()
+                    .any(|a| a.is_ok_and(|a| a.key.as_ref() == role.as_bytes()));
                 if !taken && arrays.iter().any(|a| a.name == name) {
                     el.push_attribute((role, name));
                 }
@@ -370,7 +379,9 @@ fn write_array<W: Write>(w: &mut Writer<W>, a: &Array) -> std::io::Result<()> {
     if a.components != 1 {
         el.push_attribute(("NumberOfComponents", a.components.to_string().as_str()));
     }
-    let keys: Vec<String> = (0..a.component_names.len()).map(|i| format!("ComponentName{i}")).collect();
+    let keys: Vec<String> = (0..a.component_names.len())
+        .map(|i| format!("ComponentName{i}"))
+        .collect();
     for (k, v) in keys.iter().zip(a.component_names) {
         el.push_attribute((k.as_str(), *v));
     }
@@ -527,7 +538,8 @@ pub fn stress_to_cartesian(s: [f64; 6], theta: f64) -> [f64; 9] {
 /// Von Mises equivalent of a cylindrical stress.
 fn von_mises(s: [f64; 6]) -> f64 {
     let [sr, sz, st, trz, trt, tzt] = s;
-    (0.5 * ((sr - sz).powi(2) + (sz - st).powi(2) + (st - sr).powi(2)) + 3.0 * (trz * trz + trt * trt + tzt * tzt))
+    (0.5 * ((sr - sz).powi(2) + (sz - st).powi(2) + (st - sr).powi(2))
+        + 3.0 * (trz * trz + trt * trt + tzt * tzt))
         .sqrt()
 }
 
@@ -560,7 +572,13 @@ impl NodalStress {
             .collect();
         let mut coef = vec![[0.0; 6]; rings.nodes.len() * nc];
         let mut count = vec![0usize; rings.nodes.len()];
-        for (c, cell) in field.mesh.cells.iter().enumerate().filter(|(_, c)| c.body == body) {
+        for (c, cell) in field
+            .mesh
+            .cells
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| c.body == body)
+        {
             let samples: Vec<Vec<[f64; 6]>> = angles.iter().map(|&t| field.cell_node_stress(c, t)).collect();
             for (i, &node) in cell.nodes.iter().enumerate() {
                 let l = rings.local[node];
@@ -708,14 +726,21 @@ impl SectionMap {
         // section stands for +theta and -theta).
         let half = Sections::half_circle(theta.clone()).is_ok_and(|s| {
             s.weight.len() == jf.section_weights.len()
-                && s.weight.iter().zip(&jf.section_weights).all(|(a, b)| (a - b).abs() <= 1e-9 * (1.0 + b.abs()))
+                && s.weight
+                    .iter()
+                    .zip(&jf.section_weights)
+                    .all(|(a, b)| (a - b).abs() <= 1e-9 * (1.0 + b.abs()))
         });
         SectionMap { theta, half }
     }
 
     fn nearest(&self, t: f64) -> (usize, bool) {
         let t = t.rem_euclid(2.0 * PI);
-        let (t, mirrored) = if self.half && t > PI { (2.0 * PI - t, true) } else { (t, false) };
+        let (t, mirrored) = if self.half && t > PI {
+            (2.0 * PI - t, true)
+        } else {
+            (t, false)
+        };
         let dist = |a: f64| {
             if self.half {
                 (a - t).abs()
@@ -750,7 +775,11 @@ fn joint_grid(path: &Path, field: &Field, n: usize, jf: &JointFieldFile) -> Resu
         )));
     }
     // Integration points of each (joint, element).
-    let mut points_of: Vec<Vec<Vec<usize>>> = mesh.joints.iter().map(|j| vec![vec![]; j.elements.len()]).collect();
+    let mut points_of: Vec<Vec<Vec<usize>>> = mesh
+        .joints
+        .iter()
+        .map(|j| vec![vec![]; j.elements.len()])
+        .collect();
     for (i, p) in jf.points.iter().enumerate() {
         let j = mesh
             .joints
@@ -789,7 +818,11 @@ fn joint_grid(path: &Path, field: &Field, n: usize, jf: &JointFieldFile) -> Resu
             let ub = field.displacement_xyz(node, theta);
             let ut = field.displacement_xyz(top_of[node], theta);
             check_finite(path, &[x.as_slice(), &ub, &ut].concat(), || {
-                format!("a displacement on joint '{}' at theta = {} deg", joint.name, theta.to_degrees())
+                format!(
+                    "a displacement on joint '{}' at theta = {} deg",
+                    joint.name,
+                    theta.to_degrees()
+                )
             })?;
             g.points.extend(x);
             disp.extend(ub);
@@ -886,7 +919,10 @@ impl JointCellData {
             )
         })?;
         // Largest share; ties to the more severe state.
-        let state = (0..3).rev().max_by(|&a, &b| share[a].total_cmp(&share[b])).unwrap_or(0);
+        let state = (0..3)
+            .rev()
+            .max_by(|&a, &b| share[a].total_cmp(&share[b]))
+            .unwrap_or(0);
         self.state.push(if points.is_empty() { 0 } else { state as i32 });
         self.open_fraction.push(share[2]);
         self.slip_fraction.push(share[1]);

@@ -220,6 +220,10 @@ fn single_point_and_empty_profiles_draw() {
     let doc = read_svg(&svg);
     assert!(doc.texts.contains("Nothing") && doc.lines.is_empty());
     check_png(&png);
+
+    plot_joint_map(&svg, &png, "No joint data", &[], &[], &[]).unwrap();
+    assert!(read_svg(&svg).texts.contains("No joint data"));
+    check_png(&png);
     assert_eq!(
         listing(dir.path()),
         ["p.png", "p.svg"],

@@ -44,7 +44,8 @@ struct Vtu {
 
 impl Vtu {
     fn read(path: &Path) -> Vtu {
-        let vtk = vtkio::Vtk::import(path).unwrap_or_else(|e| panic!("vtkio cannot read {}: {e:?}", path.display()));
+        let vtk = vtkio::Vtk::import(path)
+            .unwrap_or_else(|e| panic!("vtkio cannot read {}: {e:?}", path.display()));
         let DataSet::UnstructuredGrid { pieces, .. } = vtk.data else {
             panic!("not an unstructured grid")
         };
@@ -57,13 +58,22 @@ impl Vtu {
             .expect("inline piece");
         let xyz: Vec<f64> = piece.points.cast_into().expect("points");
         let points: Vec<[f64; 3]> = xyz.chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
-        let VertexNumbers::XML { connectivity, offsets } = piece.cells.cell_verts else {
+        let VertexNumbers::XML {
+            connectivity,
+            offsets,
+        } = piece.cells.cell_verts
+        else {
             panic!("XML cells expected")
         };
         let mut cells = Vec::new();
         let mut start = 0usize;
         for &end in &offsets {
-            cells.push(connectivity[start..end as usize].iter().map(|&v| v as usize).collect());
+            cells.push(
+                connectivity[start..end as usize]
+                    .iter()
+                    .map(|&v| v as usize)
+                    .collect(),
+            );
             start = end as usize;
         }
         let types = piece.cells.types.iter().map(|t| *t as u8).collect();
@@ -91,14 +101,20 @@ impl Vtu {
     }
 
     fn point_array(&self, name: &str, k: usize) -> &[f64] {
-        let (c, v) = self.point.get(name).unwrap_or_else(|| panic!("no point array {name}"));
+        let (c, v) = self
+            .point
+            .get(name)
+            .unwrap_or_else(|| panic!("no point array {name}"));
         assert_eq!(*c, k, "{name} components");
         assert_eq!(v.len(), k * self.points.len(), "{name} length");
         v
     }
 
     fn cell_array(&self, name: &str, k: usize) -> &[f64] {
-        let (c, v) = self.cell.get(name).unwrap_or_else(|| panic!("no cell array {name}"));
+        let (c, v) = self
+            .cell
+            .get(name)
+            .unwrap_or_else(|| panic!("no cell array {name}"));
         assert_eq!(*c, k, "{name} components");
         assert_eq!(v.len(), k * self.cells.len(), "{name} length");
         v
@@ -143,20 +159,21 @@ impl<const D: usize> Shape<D> {
             })
             .collect();
         for c in 0..n {
-            let p = (c..n).max_by(|&a, &b| m[a][c].abs().total_cmp(&m[b][c].abs())).unwrap();
+            let p = (c..n)
+                .max_by(|&a, &b| m[a][c].abs().total_cmp(&m[b][c].abs()))
+                .unwrap();
             m.swap(c, p);
             let d = m[c][c];
             assert!(d.abs() > 1e-12, "singular basis");
             for v in m[c].iter_mut() {
                 *v /= d;
             }
-            for r in 0..n {
-                if r != c {
-                    let f = m[r][c];
-                    if f != 0.0 {
-                        for k in 0..2 * n {
-                            m[r][k] -= f * m[c][k];
-                        }
+            let pivot = m[c].clone();
+            for (r, row) in m.iter_mut().enumerate() {
+                let f = row[c];
+                if r != c && f != 0.0 {
+                    for (x, p) in row.iter_mut().zip(&pivot) {
+                        *x -= f * p;
                     }
                 }
             }
@@ -178,7 +195,13 @@ impl<const D: usize> Shape<D> {
                         *dnd += c
                             * f64::from(e[dd])
                             * (0..D)
-                                .map(|d| if d == dd { u[d].powi(e[d] - 1) } else { u[d].powi(e[d]) })
+                                .map(|d| {
+                                    if d == dd {
+                                        u[d].powi(e[d] - 1)
+                                    } else {
+                                        u[d].powi(e[d])
+                                    }
+                                })
                                 .product::<f64>();
                     }
                 }
@@ -195,7 +218,11 @@ impl<const D: usize> Shape<D> {
 }
 
 fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
 }
 
 fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
@@ -206,8 +233,20 @@ fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
 fn gauss01(n: usize) -> Vec<(f64, f64)> {
     let (x, w): (&[f64], &[f64]) = match n {
         5 => (
-            &[-0.906_179_845_938_664, -0.538_469_310_105_683, 0.0, 0.538_469_310_105_683, 0.906_179_845_938_664],
-            &[0.236_926_885_056_189, 0.478_628_670_499_366, 0.568_888_888_888_889, 0.478_628_670_499_366, 0.236_926_885_056_189],
+            &[
+                -0.906_179_845_938_664,
+                -0.538_469_310_105_683,
+                0.0,
+                0.538_469_310_105_683,
+                0.906_179_845_938_664,
+            ],
+            &[
+                0.236_926_885_056_189,
+                0.478_628_670_499_366,
+                0.568_888_888_888_889,
+                0.478_628_670_499_366,
+                0.236_926_885_056_189,
+            ],
         ),
         _ => unreachable!(),
     };
@@ -254,13 +293,23 @@ fn face_shape(n: usize) -> (Shape<2>, bool) {
         [0.0, 0.5],
         [0.5, 0.5],
     ];
-    const T: [[f64; 2]; 6] = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [0.5, 0.0], [0.5, 0.5], [0.0, 0.5]];
+    const T: [[f64; 2]; 6] = [
+        [0.0, 0.0],
+        [1.0, 0.0],
+        [0.0, 1.0],
+        [0.5, 0.0],
+        [0.5, 0.5],
+        [0.0, 0.5],
+    ];
     match n {
         3 => (Shape::new(&T[..3], tri_exps(1)), true),
         6 => (Shape::new(&T, tri_exps(2)), true),
         4 => (Shape::new(&Q[..4], vec![[0, 0], [1, 0], [0, 1], [1, 1]]), false),
         8 => (
-            Shape::new(&Q[..8], vec![[0, 0], [1, 0], [0, 1], [2, 0], [1, 1], [0, 2], [2, 1], [1, 2]]),
+            Shape::new(
+                &Q[..8],
+                vec![[0, 0], [1, 0], [0, 1], [2, 0], [1, 1], [0, 2], [2, 1], [1, 2]],
+            ),
             false,
         ),
         9 => (
@@ -275,7 +324,13 @@ fn face_shape(n: usize) -> (Shape<2>, bool) {
 fn vtk_faces(t: u8) -> Vec<Vec<usize>> {
     let v = |f: &[&[usize]]| f.iter().map(|x| x.to_vec()).collect();
     match t {
-        13 => v(&[&[0, 2, 1], &[3, 4, 5], &[0, 1, 4, 3], &[1, 2, 5, 4], &[2, 0, 3, 5]]),
+        13 => v(&[
+            &[0, 2, 1],
+            &[3, 4, 5],
+            &[0, 1, 4, 3],
+            &[1, 2, 5, 4],
+            &[2, 0, 3, 5],
+        ]),
         26 => v(&[
             &[0, 2, 1, 8, 7, 6],
             &[3, 4, 5, 9, 10, 11],
@@ -283,7 +338,14 @@ fn vtk_faces(t: u8) -> Vec<Vec<usize>> {
             &[1, 2, 5, 4, 7, 14, 10, 13],
             &[2, 0, 3, 5, 8, 12, 11, 14],
         ]),
-        12 => v(&[&[0, 4, 7, 3], &[1, 2, 6, 5], &[0, 1, 5, 4], &[3, 7, 6, 2], &[0, 3, 2, 1], &[4, 5, 6, 7]]),
+        12 => v(&[
+            &[0, 4, 7, 3],
+            &[1, 2, 6, 5],
+            &[0, 1, 5, 4],
+            &[3, 7, 6, 2],
+            &[0, 3, 2, 1],
+            &[4, 5, 6, 7],
+        ]),
         25 | 29 => {
             let mut f: Vec<Vec<usize>> = v(&[
                 &[0, 4, 7, 3, 16, 15, 19, 11],
@@ -369,18 +431,26 @@ fn parametric_volume(t: u8, x: &[[f64; 3]]) -> f64 {
         [0.0, 1.0, 0.5],
     ];
     let tensor = |p: i32| -> Vec<[i32; 3]> {
-        (0..=p).flat_map(|a| (0..=p).flat_map(move |b| (0..=p).map(move |c| [a, b, c]))).collect()
+        (0..=p)
+            .flat_map(|a| (0..=p).flat_map(move |b| (0..=p).map(move |c| [a, b, c])))
+            .collect()
     };
     let (shape, wedge) = match t {
         12 => (Shape::new(&H[..8], tensor(1)), false),
         29 => (Shape::new(&H, tensor(2)), false),
         25 => (Shape::new(&H[..20], serendipity()), false),
         13 => {
-            let e: Vec<[i32; 3]> = tri_exps(1).into_iter().flat_map(|[a, b]| [[a, b, 0], [a, b, 1]]).collect();
+            let e: Vec<[i32; 3]> = tri_exps(1)
+                .into_iter()
+                .flat_map(|[a, b]| [[a, b, 0], [a, b, 1]])
+                .collect();
             (Shape::new(&W[..6], e), true)
         }
         26 => {
-            let mut e: Vec<[i32; 3]> = tri_exps(2).into_iter().flat_map(|[a, b]| [[a, b, 0], [a, b, 1]]).collect();
+            let mut e: Vec<[i32; 3]> = tri_exps(2)
+                .into_iter()
+                .flat_map(|[a, b]| [[a, b, 0], [a, b, 1]])
+                .collect();
             e.extend(tri_exps(1).into_iter().map(|[a, b]| [a, b, 2]));
             (Shape::new(&W, e), true)
         }
@@ -436,12 +506,20 @@ const L: f64 = 2.0;
 
 /// Harmonic-1 amplitudes `(u, v, w)` of the exact bending field.
 fn bending_amplitudes(r: f64, z: f64) -> [f64; 3] {
-    [-S / (2.0 * E) * (z * z + NU * r * r), S * r * z / E, S / (2.0 * E) * (z * z - NU * r * r)]
+    [
+        -S / (2.0 * E) * (z * z + NU * r * r),
+        S * r * z / E,
+        S / (2.0 * E) * (z * z - NU * r * r),
+    ]
 }
 
 /// Exact Cartesian displacement.
 fn bending_xyz(x: f64, y: f64, z: f64) -> [f64; 3] {
-    [-S / (2.0 * E) * (z * z + NU * (x * x - y * y)), -S * NU * x * y / E, S * x * z / E]
+    [
+        -S / (2.0 * E) * (z * z + NU * (x * x - y * y)),
+        -S * NU * x * y / E,
+        S * x * z / E,
+    ]
 }
 
 fn bending_field(mesh: &Mesh) -> Displacements {
@@ -478,7 +556,9 @@ fn cylinder(order: f64, quads: f64, serendipity: f64) -> Mesh {
     .iter()
     .map(|(k, v)| (k.to_string(), *v))
     .collect();
-    prepare(&geo("cylinder.geo"), &params, &[], None).expect("gmsh meshes the cylinder").0
+    prepare(&geo("cylinder.geo"), &params, &[], None)
+        .expect("gmsh meshes the cylinder")
+        .0
 }
 
 /// Angular factor of the revolved volume: Integral |w x w'| dt over one slot,
@@ -493,7 +573,11 @@ fn slot_factor(n: usize, quadratic: bool) -> f64 {
     gauss01(5)
         .iter()
         .map(|&(t, w)| {
-            let l = [2.0 * (t - 0.5) * (t - 1.0), -4.0 * t * (t - 1.0), 2.0 * t * (t - 0.5)];
+            let l = [
+                2.0 * (t - 0.5) * (t - 1.0),
+                -4.0 * t * (t - 1.0),
+                2.0 * t * (t - 0.5),
+            ];
             let dl = [4.0 * t - 3.0, -8.0 * t + 4.0, 4.0 * t - 1.0];
             let x = [0, 1].map(|k| l[0] * p0[k] + l[1] * pm[k] + l[2] * p1[k]);
             let dx = [0, 1].map(|k| dl[0] * p0[k] + dl[1] * pm[k] + dl[2] * p1[k]);
@@ -515,7 +599,10 @@ fn bending_cylinder_vtu() {
     ];
     for (order, quads, ser, kind, vtk_type) in cases {
         let mesh = cylinder(order, quads, ser);
-        assert!(mesh.cells.iter().all(|c| c.kind == kind), "{kind:?} mesh expected");
+        assert!(
+            mesh.cells.iter().all(|c| c.kind == kind),
+            "{kind:?} mesh expected"
+        );
         let u = bending_field(&mesh);
         let materials = vec![Elastic { e: E, nu: NU }];
         let field = Field {
@@ -543,7 +630,11 @@ fn bending_cylinder_vtu() {
         };
         assert_eq!(vtu.points.len(), n * (mesh.nodes.len() + mids), "{kind:?} points");
         assert_eq!(vtu.cells.len(), n * mesh.cells.len(), "{kind:?} cells");
-        assert_eq!(vtu.count(vtk_type), vtu.cells.len(), "{kind:?}: all cells of VTK type {vtk_type}");
+        assert_eq!(
+            vtu.count(vtk_type),
+            vtu.cells.len(),
+            "{kind:?}: all cells of VTK type {vtk_type}"
+        );
         let nn = [6, 8, 15, 20, 27][[13, 12, 26, 25, 29].iter().position(|&t| t == vtk_type).unwrap()];
         assert!(vtu.cells.iter().all(|c| c.len() == nn));
         assert!(vtu.cell_array("body", 1).iter().all(|&b| b == 0.0));
@@ -604,7 +695,10 @@ fn bending_cylinder_vtu() {
             let x: Vec<[f64; 3]> = c.iter().map(|&i| vtu.points[i]).collect();
             let v = face_volume(vtk_type, &x);
             let pv = parametric_volume(vtk_type, &x);
-            assert!((pv - v).abs() <= 1e-9 * v.abs().max(1e-9), "{kind:?}: {pv} vs {v}");
+            assert!(
+                (pv - v).abs() <= 1e-9 * v.abs().max(1e-9),
+                "{kind:?}: {pv} vs {v}"
+            );
             min_v = min_v.min(v).min(pv);
             total += v;
         }
@@ -618,8 +712,15 @@ fn bending_cylinder_vtu() {
         // ... which is pi a^2 L within the chordal error of n sections.
         let exact = PI * A * A * L;
         let chordal = (total - exact).abs() / exact;
-        let bound = if kind.is_quadratic() { 2e-4 } else { (2.0 * PI / n as f64).powi(2) / 6.0 };
-        assert!(chordal <= bound, "{kind:?}: chordal error {chordal:e} > {bound:e}");
+        let bound = if kind.is_quadratic() {
+            2e-4
+        } else {
+            (2.0 * PI / n as f64).powi(2) / 6.0
+        };
+        assert!(
+            chordal <= bound,
+            "{kind:?}: chordal error {chordal:e} > {bound:e}"
+        );
         println!(
             "{}: {} points, {} cells, volume {total:.9} (pi a^2 L = {exact:.9}, chordal error {chordal:.2e}), max displacement error {worst_u:.1e}",
             kind.name(),
@@ -643,12 +744,18 @@ fn non_finite_values_leave_no_file() {
     };
     let vtu = dir.path().join("bad.vtu");
     let msh = dir.path().join("bad.msh");
-    assert!(matches!(write_vtu(&vtu, &field, 8, None), Err(ReportError::NotFinite { .. })));
+    assert!(matches!(
+        write_vtu(&vtu, &field, 8, None),
+        Err(ReportError::NotFinite { .. })
+    ));
     assert!(matches!(
         write_gmsh_view(&msh, &field, &[0.0]),
         Err(ReportError::NotFinite { .. })
     ));
-    assert!(matches!(write_vtu(&vtu, &field, 2, None), Err(ReportError::Input(_))));
+    assert!(matches!(
+        write_vtu(&vtu, &field, 2, None),
+        Err(ReportError::Input(_))
+    ));
     let left: Vec<_> = std::fs::read_dir(dir.path()).unwrap().collect();
     assert!(left.is_empty(), "files left behind: {left:?}");
 }
@@ -656,10 +763,11 @@ fn non_finite_values_leave_no_file() {
 // ---------------------------------------------------------------------------
 // Scene P through the real pipeline.
 
-/// Runs gmsh on `path` headless; `None` when gmsh is absent.
-fn gmsh_check(path: &Path) -> Option<String> {
+/// Runs gmsh headless on `args`; asserts exit 0 and no `Error` line, and
+/// returns the output; `None` (with a printed reason) when gmsh is absent.
+fn run_gmsh(args: &[&std::ffi::OsStr]) -> Option<String> {
     let gmsh = std::env::var("GMSH").unwrap_or_else(|_| "gmsh".into());
-    let out = match Command::new(&gmsh).arg(path).arg("-parse_and_exit").arg("-v").arg("4").output() {
+    let out = match Command::new(&gmsh).args(args).output() {
         Ok(o) => o,
         Err(e) => {
             println!("SKIP gmsh check: cannot run '{gmsh}': {e}");
@@ -671,13 +779,47 @@ fn gmsh_check(path: &Path) -> Option<String> {
         String::from_utf8_lossy(&out.stdout),
         String::from_utf8_lossy(&out.stderr)
     );
-    assert!(out.status.success(), "gmsh failed on {}:\n{text}", path.display());
+    assert!(out.status.success(), "gmsh {args:?} failed:\n{text}");
     assert!(
         !text.lines().any(|l| l.contains("Error")),
-        "gmsh reported errors on {}:\n{text}",
-        path.display()
+        "gmsh {args:?} reported errors:\n{text}"
     );
     Some(text)
+}
+
+/// Opens `msh` in gmsh (directly, then merged by a script that prints every
+/// view's range): `(min, max)` per view, in file order.
+fn gmsh_views(msh: &Path) -> Option<Vec<(f64, f64)>> {
+    run_gmsh(&[msh.as_os_str(), "-parse_and_exit".as_ref()])?;
+    let script = msh.with_extension("check.geo");
+    std::fs::write(
+        &script,
+        format!(
+            "Merge \"{}\";\nPrintf(\"views = %g\", PostProcessing.NbViews);\n\
+             For i In {{0:PostProcessing.NbViews-1}}\n  \
+             Printf(\"range %.12g %.12g\", View[i].Min, View[i].Max);\nEndFor\n",
+            msh.display()
+        ),
+    )
+    .unwrap();
+    let text = run_gmsh(&[script.as_os_str(), "-parse_and_exit".as_ref()])?;
+    let count: usize = text
+        .lines()
+        .find_map(|l| l.strip_prefix("views = "))
+        .expect("gmsh printed the view count")
+        .trim()
+        .parse()
+        .unwrap();
+    let ranges: Vec<(f64, f64)> = text
+        .lines()
+        .filter_map(|l| l.strip_prefix("range "))
+        .map(|l| {
+            let v: Vec<f64> = l.split_whitespace().map(|x| x.parse().unwrap()).collect();
+            (v[0], v[1])
+        })
+        .collect();
+    assert_eq!(ranges.len(), count);
+    Some(ranges)
 }
 
 #[test]
@@ -712,7 +854,9 @@ fn scene_p_views() {
             nodes.extend(c.nodes.iter().copied());
             match c.kind {
                 CellKind::Quad9 => mids.extend(c.nodes.iter().copied()),
-                CellKind::Tri6 | CellKind::Quad8 => mids.extend(c.nodes[..c.kind.n_corners()].iter().copied()),
+                CellKind::Tri6 | CellKind::Quad8 => {
+                    mids.extend(c.nodes[..c.kind.n_corners()].iter().copied())
+                }
                 _ => {}
             }
         }
@@ -767,7 +911,10 @@ fn scene_p_views() {
         "the jump at the joint is kept"
     );
     // The footing's displacement there differs from the pile's (open joint).
-    let gap: f64 = (0..3).map(|k| (disp[3 * ip + k] - disp[3 * if_ + k]).powi(2)).sum::<f64>().sqrt();
+    let gap: f64 = (0..3)
+        .map(|k| (disp[3 * ip + k] - disp[3 * if_ + k]).powi(2))
+        .sum::<f64>()
+        .sqrt();
     assert!(gap > 0.0);
 
     // The joint file.
@@ -781,14 +928,20 @@ fn scene_p_views() {
     let state = j.cell_array("state", 1);
     assert!(state.iter().all(|s| [0.0, 1.0, 2.0].contains(s)));
     let counts = [0.0, 1.0, 2.0].map(|s| state.iter().filter(|&&x| x == s).count());
-    println!("Scene P joint cells: {counts:?} (stick, slip, open) of {}", state.len());
+    println!(
+        "Scene P joint cells: {counts:?} (stick, slip, open) of {}",
+        state.len()
+    );
     assert!(counts[2] > 0, "the joint opens somewhere (theta = pi side)");
     assert!(counts[0] + counts[1] > 0, "and is closed somewhere");
     let opening = j.cell_array("opening", 1);
     let sigma = j.cell_array("sigma_n", 1);
     for (c, &s) in state.iter().enumerate() {
         if s == 2.0 && j.cell_array("open_fraction", 1)[c] == 1.0 {
-            assert!(opening[c] > 0.0 && sigma[c] == 0.0, "an open cell opens and carries nothing");
+            assert!(
+                opening[c] > 0.0 && sigma[c] == 0.0,
+                "an open cell opens and carries nothing"
+            );
         }
     }
     // Sections: the nearest of 0, 45, ..., 180 to the slot's mid angle
@@ -853,9 +1006,30 @@ fn scene_p_views() {
         }
     }
     assert!(differs > 0, "sigma_z jumps across the joint in the gmsh view");
-    if let Some(log) = gmsh_check(&msh) {
-        let n_views = log.lines().filter(|l| l.contains("theta=")).count();
-        println!("gmsh opened the view ({} lines of output, {n_views} mention a view)", log.lines().count());
+    // gmsh opens it: 7 views per theta, in file order (displacement, then
+    // the six stress components), each with the range of the data written.
+    if let Some(ranges) = gmsh_views(&msh) {
+        assert_eq!(ranges.len(), 7 * thetas.len(), "views gmsh loaded");
+        for (step, &deg) in thetas.iter().enumerate() {
+            for (q, name) in ["sigma_r", "sigma_z", "sigma_theta", "tau_rz"].iter().enumerate() {
+                let values = element_node_values(&text, &view_name(name, deg));
+                let all = values.values().flatten();
+                let (lo, hi) = all.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+                    (a.min(v), b.max(v))
+                });
+                let (glo, ghi) = ranges[7 * step + 1 + q];
+                let tol = 1e-9 * (hi - lo).abs().max(1e-12);
+                assert!(
+                    (glo - lo).abs() <= tol && (ghi - hi).abs() <= tol,
+                    "{name} at {deg}: gmsh {glo}..{ghi}, file {lo}..{hi}"
+                );
+            }
+        }
+        println!(
+            "gmsh loaded {} views; sigma_z at 180 deg spans {:?}",
+            ranges.len(),
+            ranges[9]
+        );
     }
 }
 
@@ -865,11 +1039,22 @@ fn element_node_values(text: &str, name: &str) -> HashMap<usize, Vec<f64>> {
     let start = text.find(&head).expect("view present") + head.len();
     let mut lines = text[start..].lines();
     // real tags (1, time), integer tags (3: step, components, count)
-    let _ = (lines.next(), lines.next(), lines.next(), lines.next(), lines.next());
+    let _ = (
+        lines.next(),
+        lines.next(),
+        lines.next(),
+        lines.next(),
+        lines.next(),
+    );
     let count: usize = lines.next().unwrap().trim().parse().unwrap();
     (0..count)
         .map(|_| {
-            let v: Vec<f64> = lines.next().unwrap().split_whitespace().map(|x| x.parse().unwrap()).collect();
+            let v: Vec<f64> = lines
+                .next()
+                .unwrap()
+                .split_whitespace()
+                .map(|x| x.parse().unwrap())
+                .collect();
             let id = v[0] as usize;
             assert_eq!(v[1] as usize, v.len() - 2);
             (id, v[2..].to_vec())
@@ -877,29 +1062,67 @@ fn element_node_values(text: &str, name: &str) -> HashMap<usize, Vec<f64>> {
         .collect()
 }
 
+/// Scene P with linear elements (order 1, triangles): 4-node joints become
+/// VTK quads, T3 cells wedges; joint states still in {0, 1, 2}.
 #[test]
-#[ignore]
-fn dump_scene_p_views() {
+fn scene_p_linear_joint_quads() {
     let mut scene = Scene::from_path(geo("pile_footing.json")).unwrap();
-    scene.mesh.parameters.insert("size".into(), 0.5);
+    for (k, v) in [("size", 0.5), ("order", 1.0), ("quads", 0.0)] {
+        scene.mesh.parameters.insert(k.into(), v);
+    }
     let run = solve_scene(&scene, None, |_| {}).expect("Scene P solves");
     let outcome = run.outcome.as_ref().expect("Scene P iterates");
     let model = &run.linear.model;
+    let mesh = &model.mesh;
+    assert!(mesh.cells.iter().all(|c| c.kind == CellKind::Tri3));
     let springs: Vec<_> = model.joints.iter().map(|j| j.springs).collect();
-    let jf = JointFieldFile::new(&model.mesh, &springs, &outcome.field);
-    let field = Field { mesh: &model.mesh, materials: &model.materials, u: &run.linear.displacements };
-    write_vtu(Path::new("/tmp/views_dump/p.vtu"), &field, 24, Some(&jf)).unwrap();
-    write_gmsh_view(Path::new("/tmp/views_dump/p.msh"), &field, &[0.0, 90.0, 180.0]).unwrap();
+    let jf = JointFieldFile::new(mesh, &springs, &outcome.field);
+    let field = Field {
+        mesh,
+        materials: &model.materials,
+        u: &run.linear.displacements,
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("p1.vtu");
+    let n = 8;
+    write_vtu(&path, &field, n, Some(&jf)).unwrap();
+    let vtu = Vtu::read(&path);
+    vtu.no_nan();
+    assert_eq!(vtu.count(13), n * mesh.cells.len());
+    for c in &vtu.cells {
+        let x: Vec<[f64; 3]> = c.iter().map(|&i| vtu.points[i]).collect();
+        assert!(face_volume(13, &x) > 0.0);
+    }
+    let j = Vtu::read(&joints_path(&path));
+    j.no_nan();
+    let n_el: usize = mesh.joints.iter().map(|j| j.elements.len()).sum();
+    assert_eq!(j.count(9), n * n_el);
+    assert!(j.cells.iter().all(|c| c.len() == 4));
+    let state = j.cell_array("state", 1);
+    assert!(state.iter().all(|s| [0.0, 1.0, 2.0].contains(s)));
+    // Joint surface area: 2 pi a (pile side, 0 <= z <= 1) times the chord
+    // factor sin(pi / n) / (pi / n) of flat quads.
+    let area: f64 = j
+        .cells
+        .iter()
+        .map(|c| {
+            let p: Vec<[f64; 3]> = c.iter().map(|&i| j.points[i]).collect();
+            let (d1, d2) = (sub(p[2], p[0]), sub(p[3], p[1]));
+            0.5 * norm(cross(d1, d2))
+        })
+        .sum();
+    let h = PI / n as f64;
+    let expected = 2.0 * PI * 0.5 * 1.0 * h.sin() / h;
+    assert!(
+        (area - expected).abs() < 1e-9 * expected,
+        "joint area {area} vs {expected}"
+    );
 }
 
-#[test]
-#[ignore]
-fn dump_bending_views() {
-    for (order, quads, ser, name) in [(1.0, 0.0, 0.0, "t3"), (1.0, 1.0, 0.0, "q4"), (2.0, 0.0, 0.0, "t6"), (2.0, 1.0, 1.0, "q8"), (2.0, 1.0, 0.0, "q9")] {
-        let mesh = cylinder(order, quads, ser);
-        let u = bending_field(&mesh);
-        let materials = vec![Elastic { e: E, nu: NU }];
-        let field = Field { mesh: &mesh, materials: &materials, u: &u };
-        write_vtu(Path::new(&format!("/tmp/views_dump/{name}.vtu")), &field, 12, None).unwrap();
-    }
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn norm(a: [f64; 3]) -> f64 {
+    dot(a, a).sqrt()
 }

@@ -9,9 +9,14 @@
 //! `AXIJOINT_BENCH_SIZE` is the gmsh element size (default 0.12, about 1.1e4
 //! DOF per harmonic), `AXIJOINT_BENCH_REPS` the rounds (default 15),
 //! `AXIJOINT_BENCH_M` the highest harmonic of the `factorize_all` case
-//! (default 4). The cases of a group run interleaved, round by round, so a
-//! load change on the machine hits all of them alike; each reports the
-//! minimum and the median over the rounds, and the ratios use the medians.
+//! (default 4), `AXIJOINT_BENCH_PATIENCE` how long a group may wait for a
+//! quiet machine (default 120 s). The cases of a group run interleaved,
+//! round by round, so a load change hits all of them alike; a round counts
+//! only if other processes used less than 0.1 CPU meanwhile (from
+//! `/proc/stat`), unless fewer than 3 rounds were quiet (then all count and
+//! the group says so). Each case reports the minimum and median wall time
+//! and the median CPU time (`CLOCK_PROCESS_CPUTIME_ID`, all threads); the
+//! ratios are of medians, wall and CPU.
 //!
 //! Groups:
 //! - assembly of one harmonic: `Model::assemble`, the element matrices
@@ -38,7 +43,10 @@ use std::hint::black_box;
 use std::time::Instant;
 
 fn env_or<T: std::str::FromStr>(name: &str, default: T) -> T {
-    std::env::var(name).ok().and_then(|v| v.parse().ok()).unwrap_or(default)
+    std::env::var(name)
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(default)
 }
 
 #[repr(C)]
@@ -56,7 +64,10 @@ extern "C" {
 /// while other processes hold the CPUs.
 fn cpu_seconds() -> f64 {
     const CLOCK_PROCESS_CPUTIME_ID: i32 = 2;
-    let mut t = Timespec { tv_sec: 0, tv_nsec: 0 };
+    let mut t = Timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
     // SAFETY: `t` is a valid `struct timespec` (x86_64 / aarch64 Linux layout).
     let rc = unsafe { clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &mut t) };
     if rc == 0 {
@@ -65,6 +76,48 @@ fn cpu_seconds() -> f64 {
         f64::NAN
     }
 }
+
+/// CPU time the whole machine has spent busy so far (all CPUs, all
+/// processes; `/proc/stat`, 1/100 s ticks), in seconds.
+fn machine_busy_seconds() -> f64 {
+    std::fs::read_to_string("/proc/stat")
+        .ok()
+        .and_then(|s| {
+            let f: Vec<f64> = s
+                .lines()
+                .next()?
+                .split_whitespace()
+                .skip(1)
+                .map(|v| v.parse().unwrap_or(0.0))
+                .collect();
+            // user nice system idle iowait irq softirq steal
+            let busy = f.iter().take(8).sum::<f64>() - f.get(3)? - f.get(4)?;
+            Some(busy / 100.0)
+        })
+        .unwrap_or(f64::NAN)
+}
+
+/// Average number of CPUs other processes kept busy over `seconds` of wall
+/// time, from the machine's busy time and this process's CPU time.
+fn others_cores(busy: f64, own_cpu: f64, seconds: f64) -> f64 {
+    ((busy - own_cpu) / seconds).max(0.0)
+}
+
+/// Waits (up to `until`) for a second in which other processes use less
+/// than `QUIET` of a CPU.
+fn wait_for_quiet(until: Instant) {
+    while Instant::now() < until {
+        let (b0, c0) = (machine_busy_seconds(), cpu_seconds());
+        std::thread::sleep(std::time::Duration::from_millis(1000));
+        if others_cores(machine_busy_seconds() - b0, cpu_seconds() - c0, 1.0) < QUIET {
+            return;
+        }
+    }
+}
+
+/// Rounds in which other processes used less than this many CPUs on average
+/// are "quiet"; the statistics use only those when there are enough.
+const QUIET: f64 = 0.1;
 
 /// One measured case: a name, a faer setting and the work.
 struct Case<'a> {
@@ -100,12 +153,22 @@ impl<'a> Case<'a> {
     }
 }
 
-/// Runs the cases interleaved for `reps` rounds (after one warm-up round)
-/// and prints the minimum and median wall time and the median CPU time (all
-/// threads; rayon's idle workers spin a little, which counts).
-fn run_group(title: &str, reps: usize, cases: &mut [Case<'_>]) {
-    for round in 0..=reps {
-        for c in cases.iter_mut() {
+/// Runs the cases interleaved, round by round (after one warm-up round),
+/// until `reps` rounds were quiet (other processes below `QUIET` CPUs) or
+/// `patience` seconds have passed; after a busy round it waits for a quiet
+/// second before the next. Prints the minimum and median wall time and the
+/// median CPU time (all threads; rayon's idle workers spin a little, which
+/// counts) over the quiet rounds, or over all rounds if fewer than 3 were
+/// quiet.
+fn run_group(title: &str, reps: usize, patience: f64, cases: &mut [Case<'_>]) {
+    let until = Instant::now() + std::time::Duration::from_secs_f64(patience);
+    let mut raw: Vec<Vec<(f64, f64)>> = vec![Vec::new(); cases.len()];
+    let mut quiet_flags = Vec::new();
+    let mut others_sum = 0.0;
+    let mut round = 0;
+    loop {
+        let (b0, c0, t0) = (machine_busy_seconds(), cpu_seconds(), Instant::now());
+        for (c, r) in cases.iter_mut().zip(raw.iter_mut()) {
             faer::set_global_parallelism(c.par);
             let c0 = cpu_seconds();
             let t = Instant::now();
@@ -113,12 +176,48 @@ fn run_group(title: &str, reps: usize, cases: &mut [Case<'_>]) {
             let dt = t.elapsed().as_secs_f64();
             let c1 = cpu_seconds();
             if round > 0 {
-                c.times.push((dt, c1 - c0));
+                r.push((dt, c1 - c0));
             }
+        }
+        let wall = t0.elapsed().as_secs_f64();
+        let others = others_cores(machine_busy_seconds() - b0, cpu_seconds() - c0, wall);
+        let quiet = others < QUIET;
+        if round > 0 {
+            quiet_flags.push(quiet);
+            others_sum += others;
+        }
+        round += 1;
+        let n_quiet = quiet_flags.iter().filter(|&&q| q).count();
+        let timed_out = Instant::now() >= until;
+        if round > reps && (n_quiet >= reps || timed_out) {
+            break;
+        }
+        if !quiet && !timed_out {
+            wait_for_quiet(until);
         }
     }
     faer::set_global_parallelism(Par::rayon(0));
-    println!("\n## {title} ({reps} rounds; medians unless min)");
+    let n_quiet = quiet_flags.iter().filter(|&&q| q).count();
+    let use_quiet = n_quiet >= 3.min(reps);
+    for (c, r) in cases.iter_mut().zip(raw) {
+        c.times = r
+            .into_iter()
+            .zip(&quiet_flags)
+            .filter(|(_, &q)| q || !use_quiet)
+            .map(|(t, _)| t)
+            .collect();
+    }
+    println!(
+        "\n## {title} ({} of {} rounds quiet, other processes {:.2} CPUs on average; statistics over {})",
+        n_quiet,
+        quiet_flags.len(),
+        others_sum / quiet_flags.len() as f64,
+        if use_quiet {
+            "the quiet rounds"
+        } else {
+            "ALL rounds: the machine was busy, wall times are inflated"
+        }
+    );
     println!("{:<52} {:>9} {:>9} {:>9}", "case", "min ms", "wall ms", "CPU ms");
     for c in cases.iter() {
         println!(
@@ -183,7 +282,14 @@ fn for_each_element(model: &Model, m: u32, mut f: impl FnMut(usize, &[usize], &D
     for cell in &mesh.cells {
         coords.clear();
         coords.extend(cell.nodes.iter().map(|&n| mesh.nodes[n]));
-        solid_stiffness(cell.kind, &coords, &model.materials[cell.body], m, &mut scratch, &mut ke);
+        solid_stiffness(
+            cell.kind,
+            &coords,
+            &model.materials[cell.body],
+            m,
+            &mut scratch,
+            &mut ke,
+        );
         f(index, &cell.nodes, &ke);
         index += 1;
     }
@@ -202,7 +308,14 @@ fn for_each_element(model: &Model, m: u32, mut f: impl FnMut(usize, &[usize], &D
 }
 
 /// The library's scatter (a binary search per entry).
-fn scatter_search(pattern: &Pattern, model: &Model, pinned: &[bool], nodes: &[usize], ke: &DMatrix<f64>, values: &mut [f64]) {
+fn scatter_search(
+    pattern: &Pattern,
+    model: &Model,
+    pinned: &[bool],
+    nodes: &[usize],
+    ke: &DMatrix<f64>,
+    values: &mut [f64],
+) {
     let dofs = &model.dofs;
     let nd = 3 * nodes.len();
     for a in 0..nd {
@@ -302,10 +415,11 @@ fn main() {
     let size: f64 = env_or("AXIJOINT_BENCH_SIZE", 0.12);
     let reps: usize = env_or("AXIJOINT_BENCH_REPS", 15);
     let m_max: u32 = env_or("AXIJOINT_BENCH_M", 4);
+    let patience: f64 = env_or("AXIJOINT_BENCH_PATIENCE", 120.0);
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../geo/pile_footing.json");
     let mut scene = Scene::from_path(path).expect("Scene P");
     scene.mesh.parameters.insert("size".into(), size);
-    scene.harmonics = m_max;
+    scene.harmonics = m_max.into();
     let (mesh, _) = mesh_scene(&scene, None).expect("gmsh meshes Scene P");
     let model = build_model(&scene, mesh).expect("model");
     let pattern = model_pattern(&model);
@@ -331,7 +445,9 @@ fn main() {
         // The slot-table scatter gives the library's values.
         let (lib, _) = model.assemble(m);
         let mut mine = vec![0.0; pattern.nnz()];
-        for_each_element(&model, m, |i, _, ke| table.scatter(i, &pinned_slot, ke, &mut mine));
+        for_each_element(&model, m, |i, _, ke| {
+            table.scatter(i, &pinned_slot, ke, &mut mine)
+        });
         let worst = lib
             .iter()
             .zip(&mine)
@@ -340,7 +456,10 @@ fn main() {
             .map(|(_, (a, b))| (a - b).abs() / a.abs().max(1e-300))
             .filter(|r| r.is_finite())
             .fold(0.0f64, f64::max);
-        assert!(worst < 1e-9, "slot-table scatter differs from Model::assemble: {worst:e}");
+        assert!(
+            worst < 1e-9,
+            "slot-table scatter differs from Model::assemble: {worst:e}"
+        );
     }
     // K_m / c_m is a quadratic polynomial in m (B_m = B_a + m B_b): three
     // value arrays, from harmonics 2, 3, 4, give every harmonic m >= 2.
@@ -351,9 +470,13 @@ fn main() {
                 model.assemble(k).0.iter().map(|x| x / c).collect()
             })
             .collect();
-        let c2: Vec<f64> = (0..v[0].len()).map(|i| (v[2][i] - 2.0 * v[1][i] + v[0][i]) / 2.0).collect();
+        let c2: Vec<f64> = (0..v[0].len())
+            .map(|i| (v[2][i] - 2.0 * v[1][i] + v[0][i]) / 2.0)
+            .collect();
         let c1: Vec<f64> = (0..v[0].len()).map(|i| v[1][i] - v[0][i] - 5.0 * c2[i]).collect();
-        let c0: Vec<f64> = (0..v[0].len()).map(|i| v[0][i] - 2.0 * c1[i] - 4.0 * c2[i]).collect();
+        let c0: Vec<f64> = (0..v[0].len())
+            .map(|i| v[0][i] - 2.0 * c1[i] - 4.0 * c2[i])
+            .collect();
         [c0, c1, c2]
     };
     let from_poly = |k: u32| -> Vec<f64> {
@@ -387,19 +510,27 @@ fn main() {
         }),
         Case::new("assemble: elements + scatter (binary search)", Par::Seq, || {
             let mut values = vec![0.0; pattern.nnz()];
-            for_each_element(&model, m, |_, nodes, ke| scatter_search(&pattern, &model, &pinned, nodes, ke, &mut values));
+            for_each_element(&model, m, |_, nodes, ke| {
+                scatter_search(&pattern, &model, &pinned, nodes, ke, &mut values)
+            });
             black_box(values);
         }),
         Case::new("assemble: elements + scatter (slot table)", Par::Seq, || {
             let mut values = vec![0.0; pattern.nnz()];
-            for_each_element(&model, m, |i, _, ke| table.scatter(i, &pinned_slot, ke, &mut values));
+            for_each_element(&model, m, |i, _, ke| {
+                table.scatter(i, &pinned_slot, ke, &mut values)
+            });
             black_box(values);
         }),
-        Case::new("assemble: K_m = c_m (K_0 + m K_1 + m^2 K_2), stored", Par::Seq, || {
-            black_box(from_poly(m));
-        }),
+        Case::new(
+            "assemble: K_m = c_m (K_0 + m K_1 + m^2 K_2), stored",
+            Par::Seq,
+            || {
+                black_box(from_poly(m));
+            },
+        ),
     ];
-    run_group(&format!("assembly of harmonic {m}"), reps, &mut asm);
+    run_group(&format!("assembly of harmonic {m}"), reps, patience, &mut asm);
     let lib = "assemble: Model::assemble";
     println!(
         "element matrices / Model::assemble: {}",
@@ -411,7 +542,11 @@ fn main() {
     );
     println!(
         "slot-table scatter / binary-search scatter (whole assembly): {}",
-        ratio(&asm, "assemble: elements + scatter (slot table)", "assemble: elements + scatter (binary search)")
+        ratio(
+            &asm,
+            "assemble: elements + scatter (slot table)",
+            "assemble: elements + scatter (binary search)"
+        )
     );
     println!(
         "stored polynomial / Model::assemble: {}",
@@ -446,18 +581,35 @@ fn main() {
         Case::new("Model::factorize_all(0..=M), Par::Seq", Par::Seq, || {
             black_box(model.factorize_all(&ms).expect("factors"));
         }),
-        Case::new("Model::factorize_all(0..=M), Par::rayon(0)", Par::rayon(0), || {
-            black_box(model.factorize_all(&ms).expect("factors"));
-        }),
+        Case::new(
+            "Model::factorize_all(0..=M), Par::rayon(0)",
+            Par::rayon(0),
+            || {
+                black_box(model.factorize_all(&ms).expect("factors"));
+            },
+        ),
     ];
-    run_group(&format!("factorization (harmonic {m}; factorize_all: M = {m_max})"), reps, &mut fac);
+    run_group(
+        &format!("factorization (harmonic {m}; factorize_all: M = {m_max})"),
+        reps,
+        patience,
+        &mut fac,
+    );
     let t_fz_seq = median_of(&fac, "Model::factorize, Par::Seq");
     let t_all_seq = median_of(&fac, "Model::factorize_all(0..=M), Par::Seq");
     let t_all_ray = median_of(&fac, "Model::factorize_all(0..=M), Par::rayon(0)");
     println!(
         "rayon(0) / Seq: numeric {}, Model::factorize {}, factorize_all {}",
-        ratio(&fac, "numeric Cholesky, Par::rayon(0)", "numeric Cholesky, Par::Seq"),
-        ratio(&fac, "Model::factorize, Par::rayon(0)", "Model::factorize, Par::Seq"),
+        ratio(
+            &fac,
+            "numeric Cholesky, Par::rayon(0)",
+            "numeric Cholesky, Par::Seq"
+        ),
+        ratio(
+            &fac,
+            "Model::factorize, Par::rayon(0)",
+            "Model::factorize, Par::Seq"
+        ),
         ratio(
             &fac,
             "Model::factorize_all(0..=M), Par::rayon(0)",
@@ -477,8 +629,12 @@ fn main() {
         numeric()
     };
     let n_dofs = 3 * model.mesh.nodes.len();
-    let fa: Vec<f64> = (0..n_dofs).map(|i| ((i as f64 + 1.0) * 0.754_877_666).fract() - 0.5).collect();
-    let fb: Vec<f64> = (0..n_dofs).map(|i| ((i as f64 + 1.0) * 0.569_840_291).fract() - 0.5).collect();
+    let fa: Vec<f64> = (0..n_dofs)
+        .map(|i| ((i as f64 + 1.0) * 0.754_877_666).fract() - 0.5)
+        .collect();
+    let fb: Vec<f64> = (0..n_dofs)
+        .map(|i| ((i as f64 + 1.0) * 0.569_840_291).fract() - 0.5)
+        .collect();
     let ba = Mat::from_fn(n, 1, |i, _| fa[i]);
     let bb = Mat::from_fn(n, 1, |i, _| fb[i]);
     let b2 = Mat::from_fn(n, 2, |i, j| if j == 0 { fa[i] } else { fb[i] });
@@ -509,23 +665,44 @@ fn main() {
             llt.solve_in_place(r2.as_mut());
             black_box((r1, r2));
         }),
-        Case::new("probe of Model::factorize (matvec + 1 RHS), Seq", Par::Seq, || {
-            pattern.sym_matvec(&values, &fa[..n], &mut probe);
-            let mut r = Mat::from_fn(n, 1, |i, _| probe[i]);
-            llt.solve_in_place(r.as_mut());
-            black_box(r);
-        }),
+        Case::new(
+            "probe of Model::factorize (matvec + 1 RHS), Seq",
+            Par::Seq,
+            || {
+                pattern.sym_matvec(&values, &fa[..n], &mut probe);
+                let mut r = Mat::from_fn(n, 1, |i, _| probe[i]);
+                llt.solve_in_place(r.as_mut());
+                black_box(r);
+            },
+        ),
     ];
-    run_group(&format!("solves (harmonic {m})"), reps.max(30), &mut sol);
+    let solve_reps = if n < 200_000 { reps.max(30) } else { reps.max(3) };
+    run_group(&format!("solves (harmonic {m})"), solve_reps, patience, &mut sol);
     println!(
         "2 calls x 1 RHS / 1 call x 2 RHS: Model::solve Seq {}, rayon(0) {}; faer alone {}",
-        ratio(&sol, "Model::solve, 2 calls x 1 RHS, Seq", "Model::solve, 1 call x 2 RHS, Seq"),
-        ratio(&sol, "Model::solve, 2 calls x 1 RHS, rayon(0)", "Model::solve, 1 call x 2 RHS, rayon(0)"),
-        ratio(&sol, "faer solve_in_place, 2 x (n x 1), Seq", "faer solve_in_place, n x 2, Seq")
+        ratio(
+            &sol,
+            "Model::solve, 2 calls x 1 RHS, Seq",
+            "Model::solve, 1 call x 2 RHS, Seq"
+        ),
+        ratio(
+            &sol,
+            "Model::solve, 2 calls x 1 RHS, rayon(0)",
+            "Model::solve, 1 call x 2 RHS, rayon(0)"
+        ),
+        ratio(
+            &sol,
+            "faer solve_in_place, 2 x (n x 1), Seq",
+            "faer solve_in_place, n x 2, Seq"
+        )
     );
     println!(
         "rayon(0) / Seq, Model::solve 2 RHS: {}",
-        ratio(&sol, "Model::solve, 1 call x 2 RHS, rayon(0)", "Model::solve, 1 call x 2 RHS, Seq")
+        ratio(
+            &sol,
+            "Model::solve, 1 call x 2 RHS, rayon(0)",
+            "Model::solve, 1 call x 2 RHS, Seq"
+        )
     );
     println!(
         "probe / Model::factorize (Seq): {:.2}",

@@ -10,10 +10,14 @@
 //!    harmonics 0..=M (rayon over harmonics, all factors kept) and the
 //!    2-RHS solves of every harmonic in parallel (wall times);
 //!
-//! and prints one CSV row (`--header` prints the header first). Peak memory
-//! is the process's RSS high-water mark (`VmHWM`): after step 1 (one factor
-//! alive) and at the end (M + 1 factors alive). gmsh runs as a child
-//! process and is not included.
+//! and prints one CSV row (`--header` prints the header first). Times are
+//! wall seconds; the `_cpu_s` columns are CPU seconds of all threads
+//! (`CLOCK_PROCESS_CPUTIME_ID`), which do not grow while other processes
+//! hold the CPUs; `others_cpus` is the average number of CPUs other
+//! processes kept busy during steps 1 and 2 (from `/proc/stat`): above ~0.2
+//! the wall times are inflated. Peak memory is the process's RSS high-water
+//! mark (`VmHWM`, MiB): after step 1 (one factor alive) and at the end
+//! (M + 1 factors alive). gmsh runs as a child process and is not included.
 //!
 //! ```text
 //! cargo run --release -p axijoint-solver --example bench_linear -- \
@@ -36,7 +40,7 @@ use std::time::Instant;
 const HEADER: &str = "scene,size,refine,M,par,threads,nodes,cells,dof,nnz_K,nnz_L,supernodal,\
 mesh_s,setup_s,assemble_s,factor_s,solve2_s,assemble_cpu_s,factor_cpu_s,solve2_cpu_s,\
 factorize_all_s,factorize_all_cpu_s,solve_all_s,solve_all_cpu_s,\
-factorize_all_per_h_s,solve_all_per_h_s,peak_one_mb,peak_mb";
+factorize_all_per_h_s,solve_all_per_h_s,peak_one_mb,peak_mb,others_cpus";
 
 struct Args {
     scene: PathBuf,
@@ -54,7 +58,10 @@ fn usage() -> String {
 
 fn parse_args() -> Result<Args, String> {
     let mut args = Args {
-        scene: PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../geo/pile_footing.json")),
+        scene: PathBuf::from(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../geo/pile_footing.json"
+        )),
         size: f64::NAN,
         refine: None,
         harmonics: 4,
@@ -63,7 +70,10 @@ fn parse_args() -> Result<Args, String> {
     };
     let mut it = std::env::args().skip(1);
     while let Some(a) = it.next() {
-        let mut value = |name: &str| it.next().ok_or_else(|| format!("{name} needs a value\n{}", usage()));
+        let mut value = |name: &str| {
+            it.next()
+                .ok_or_else(|| format!("{name} needs a value\n{}", usage()))
+        };
         let num = |s: String, name: &str| s.parse::<f64>().map_err(|e| format!("{name}: {e}"));
         match a.as_str() {
             "--scene" => args.scene = PathBuf::from(value("--scene")?),
@@ -130,7 +140,10 @@ extern "C" {
 /// (`CLOCK_PROCESS_CPUTIME_ID`).
 fn cpu_seconds() -> f64 {
     const CLOCK_PROCESS_CPUTIME_ID: i32 = 2;
-    let mut t = Timespec { tv_sec: 0, tv_nsec: 0 };
+    let mut t = Timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
     // SAFETY: `t` is a valid `struct timespec` (x86_64 / aarch64 Linux layout).
     let rc = unsafe { clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &mut t) };
     if rc == 0 {
@@ -140,6 +153,26 @@ fn cpu_seconds() -> f64 {
     }
 }
 
+/// CPU time the whole machine has spent busy so far (all CPUs, all
+/// processes; `/proc/stat`, 1/100 s ticks), in seconds.
+fn machine_busy_seconds() -> f64 {
+    std::fs::read_to_string("/proc/stat")
+        .ok()
+        .and_then(|s| {
+            let f: Vec<f64> = s
+                .lines()
+                .next()?
+                .split_whitespace()
+                .skip(1)
+                .map(|v| v.parse().unwrap_or(0.0))
+                .collect();
+            // user nice system idle iowait irq softirq steal
+            let busy = f.iter().take(8).sum::<f64>() - f.get(3)? - f.get(4)?;
+            Some(busy / 100.0)
+        })
+        .unwrap_or(f64::NAN)
+}
+
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
     v[v.len() / 2]
@@ -147,8 +180,12 @@ fn median(mut v: Vec<f64>) -> f64 {
 
 /// Deterministic node-DOF load vectors (the solve cost does not depend on them).
 fn loads(n_dofs: usize) -> (Vec<f64>, Vec<f64>) {
-    let a = (0..n_dofs).map(|i| ((i as f64 + 1.0) * 0.754_877_666).fract() - 0.5).collect();
-    let b = (0..n_dofs).map(|i| ((i as f64 + 1.0) * 0.569_840_291).fract() - 0.5).collect();
+    let a = (0..n_dofs)
+        .map(|i| ((i as f64 + 1.0) * 0.754_877_666).fract() - 0.5)
+        .collect();
+    let b = (0..n_dofs)
+        .map(|i| ((i as f64 + 1.0) * 0.569_840_291).fract() - 0.5)
+        .collect();
     (a, b)
 }
 
@@ -171,7 +208,8 @@ fn factor_size(model: &Model) -> (usize, bool) {
             .map(|c| c.nodes.as_slice())
             .chain(joint_nodes.iter().map(Vec::as_slice)),
     );
-    let sym = SymbolicSparseColMatRef::new_checked(pattern.n, pattern.n, &pattern.col_ptr, None, &pattern.row_idx);
+    let sym =
+        SymbolicSparseColMatRef::new_checked(pattern.n, pattern.n, &pattern.col_ptr, None, &pattern.row_idx);
     match factorize_symbolic_cholesky(sym, Side::Upper, Default::default(), Default::default()) {
         Ok(s) => (s.len_val(), matches!(s.raw(), SymbolicCholeskyRaw::Supernodal(_))),
         Err(_) => (0, false),
@@ -190,7 +228,7 @@ fn run(args: &Args) -> Result<String, String> {
     if let Some(r) = args.refine {
         scene.mesh.parameters.insert("refine".into(), r);
     }
-    scene.harmonics = args.harmonics;
+    scene.harmonics = args.harmonics.into();
     let refine = scene.mesh.parameters.get("refine").copied().unwrap_or(f64::NAN);
     let m_max = args.harmonics;
 
@@ -209,6 +247,9 @@ fn run(args: &Args) -> Result<String, String> {
         model.nnz()
     );
     let (fa, fb) = loads(3 * nodes);
+
+    // CPUs used by other processes while we measure (phases 1 and 2).
+    let (busy0, cpu0, t0) = (machine_busy_seconds(), cpu_seconds(), Instant::now());
 
     // 1. Per harmonic, one at a time.
     let small = model.n_eq() < 200_000;
@@ -246,14 +287,19 @@ fn run(args: &Args) -> Result<String, String> {
     let sall_cpu = cpu_seconds() - c;
     assert_eq!(solved, 2 * ms.len());
     let peak = peak_rss_mb();
+    let others =
+        ((machine_busy_seconds() - busy0) - (cpu_seconds() - cpu0)).max(0.0) / t0.elapsed().as_secs_f64();
     eprintln!("  all {} harmonics: factorize_all {fall:.3} s ({fall_cpu:.2} CPU s), solves {sall:.3} s, peak {peak:.0} MiB", ms.len());
     drop(factors);
 
     let h = ms.len() as f64;
-    let scene_name = args.scene.file_stem().map_or("?".into(), |s| s.to_string_lossy().into_owned());
+    let scene_name = args
+        .scene
+        .file_stem()
+        .map_or("?".into(), |s| s.to_string_lossy().into_owned());
     Ok(format!(
         "{scene_name},{},{refine},{m_max},{},{},{nodes},{cells},{},{},{nnz_l},{},{mesh_s:.4},{setup_s:.4},\
-         {:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{fall:.4},{fall_cpu:.4},{sall:.4},{sall_cpu:.4},{:.6},{:.6},{peak_one:.1},{peak:.1}",
+         {:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{fall:.4},{fall_cpu:.4},{sall:.4},{sall_cpu:.4},{:.6},{:.6},{peak_one:.1},{peak:.1},{others:.2}",
         args.size,
         args.par,
         rayon::current_num_threads(),

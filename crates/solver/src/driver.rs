@@ -395,9 +395,13 @@ pub fn solution_header(scene: &Scene, run: &LinearRun) -> crate::results::Soluti
 
 /// The theta sections of a scene's joint law for its loads (see
 /// [`Scene::theta_sections`]).
-pub fn scene_sections(scene: &Scene, loads: &[HarmonicLoads]) -> Result<crate::fourier::Sections, SolverError> {
+pub fn scene_sections(
+    scene: &Scene,
+    loads: &[HarmonicLoads],
+) -> Result<crate::fourier::Sections, SolverError> {
     let symmetric_only = loads.iter().all(|h| {
-        h.antisymmetric.iter().all(|&v| v == 0.0) && (h.m > 0 || h.symmetric.iter().skip(2).step_by(3).all(|&v| v == 0.0))
+        h.antisymmetric.iter().all(|&v| v == 0.0)
+            && (h.m > 0 || h.symmetric.iter().skip(2).step_by(3).all(|&v| v == 0.0))
     });
     Ok(scene.theta_sections(symmetric_only)?)
 }
@@ -409,16 +413,156 @@ pub struct Run {
     pub linear: LinearRun,
     /// The iteration, if any joint is nonlinear.
     pub outcome: Option<crate::iteration::Outcome>,
+    /// Key results with harmonics 0..=M/2 against 0..=M (nonlinear, M >= 2).
+    pub harmonic_check: Option<HarmonicCheck>,
+    /// The steps of an automatic choice of M.
+    pub auto_steps: Vec<AutoStep>,
+}
+
+/// How much the key results change when the harmonics are halved: the
+/// user's check that M is enough.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct HarmonicCheck {
+    /// The solved M.
+    pub m: u32,
+    /// The compared M/2.
+    pub m_half: u32,
+    /// Largest change of a loaded face's mean displacement, relative to
+    /// the largest such displacement (none when the M/2 run failed).
+    pub face_change: Option<f64>,
+    /// Change of the open and of the slipping joint area, relative to the
+    /// joints' total area (the larger of the two).
+    pub area_change: Option<f64>,
+    /// Why the M/2 run gave no comparison.
+    pub note: Option<String>,
+}
+
+/// One step of the automatic choice of M.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct AutoStep {
+    /// Harmonics 0..=m.
+    pub m: u32,
+    /// Iterations of this step.
+    pub iterations: usize,
+    /// Relative change of the measured results against the previous step.
+    pub change: Option<f64>,
+}
+
+/// The laws of the model's joints, in model order.
+fn joint_laws(scene: &Scene, model: &Model) -> Vec<crate::scene::JointLaw> {
+    model
+        .mesh
+        .joints
+        .iter()
+        .map(|j| scene.joints[&j.name].law)
+        .collect()
+}
+
+fn iteration_settings(scene: &Scene) -> crate::iteration::IterationSettings {
+    use crate::iteration::{IterationSettings, Method};
+    IterationSettings {
+        method: match scene.solver.method {
+            crate::scene::SolverMethod::Paper => Method::Plain,
+            crate::scene::SolverMethod::Anderson => Method::Anderson { depth: 8 },
+        },
+        epsilon: scene.solver.epsilon,
+        max_iterations: scene.solver.max_iterations,
+        ..IterationSettings::default()
+    }
+}
+
+/// The stress-transfer iteration with harmonics 0..=m of a linear run (its
+/// factors), on `sections`.
+fn iterate(
+    scene: &Scene,
+    linear: &LinearRun,
+    m: u32,
+    sections: &crate::fourier::Sections,
+    progress: impl FnMut(&crate::iteration::IterationRecord),
+) -> Result<crate::iteration::Outcome, SolverError> {
+    let loads: Vec<HarmonicLoads> = linear.loads.iter().filter(|h| h.m <= m).cloned().collect();
+    let laws = joint_laws(scene, &linear.model);
+    Ok(crate::iteration::stress_transfer(
+        &linear.model,
+        &linear.factors,
+        &loads,
+        &laws,
+        sections,
+        &iteration_settings(scene),
+        progress,
+    )?)
+}
+
+/// Pads amplitudes of harmonics 0..=m with zeros up to the run's harmonics.
+fn padded(d: &Displacements, all: &[HarmonicLoads]) -> Displacements {
+    let n = all.first().map_or(0, |h| h.symmetric.len());
+    Displacements {
+        harmonics: all
+            .iter()
+            .map(|h| {
+                d.harmonics
+                    .iter()
+                    .find(|x| x.m == h.m)
+                    .cloned()
+                    .unwrap_or(HarmonicDisplacement {
+                        m: h.m,
+                        symmetric: vec![0.0; n],
+                        antisymmetric: vec![0.0; n],
+                    })
+            })
+            .collect(),
+    }
+}
+
+/// Compares the key results of two solutions of the same model.
+fn harmonic_check(
+    scene: &Scene,
+    linear: &LinearRun,
+    full: (&crate::iteration::Outcome, u32),
+    half: (&crate::iteration::Outcome, u32),
+) -> HarmonicCheck {
+    let mesh = &linear.model.mesh;
+    let faces = |o: &crate::iteration::Outcome| -> Vec<[f64; 3]> {
+        let d = padded(&o.displacements, &linear.loads);
+        scene
+            .loads
+            .iter()
+            .filter_map(|l| face_displacement(mesh, l.on(), &d))
+            .collect()
+    };
+    let (a, b) = (faces(full.0), faces(half.0));
+    let scale = a.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
+    let diff = a
+        .iter()
+        .flatten()
+        .zip(b.iter().flatten())
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+    let springs: Vec<_> = linear.model.joints.iter().map(|j| j.springs).collect();
+    let areas = |o: &crate::iteration::Outcome| -> Vec<(f64, f64, f64)> {
+        let file = crate::results::JointFieldFile::new(mesh, &springs, &o.field);
+        mesh.joints.iter().map(|j| file.state_areas(&j.name)).collect()
+    };
+    let (fa, ha) = (areas(full.0), areas(half.0));
+    let total: f64 = fa.iter().map(|a| a.0 + a.1 + a.2).sum();
+    let (open, slip) = fa.iter().zip(&ha).fold((0.0, 0.0), |acc, (x, y)| {
+        (acc.0 + (x.0 - y.0).abs(), acc.1 + (x.1 - y.1).abs())
+    });
+    HarmonicCheck {
+        m: full.1,
+        m_half: half.1,
+        face_change: Some(if scale > 0.0 { diff / scale } else { 0.0 }),
+        area_change: Some(if total > 0.0 { open.max(slip) / total } else { 0.0 }),
+        note: None,
+    }
 }
 
 /// Solves a scene: linear springs, then the stress-transfer iteration when a
-/// joint can open or slip. `progress` sees each iteration.
+/// joint can open or slip, and the M/2 check. `progress` sees each iteration.
 pub fn solve_scene(
     scene: &Scene,
     keep_msh: Option<&Path>,
-    progress: impl FnMut(&crate::iteration::IterationRecord),
+    mut progress: impl FnMut(&crate::iteration::IterationRecord),
 ) -> Result<Run, SolverError> {
-    use crate::iteration::{stress_transfer, IterationSettings};
     use crate::scene::JointLaw;
     let nonlinear = scene.joints.values().any(|j| j.law != JointLaw::Linear);
     let mut linear = solve_linear(scene, keep_msh, nonlinear)?;
@@ -426,40 +570,115 @@ pub fn solve_scene(
         return Ok(Run {
             linear,
             outcome: None,
+            harmonic_check: None,
+            auto_steps: Vec::new(),
         });
     }
-    let laws: Vec<JointLaw> = linear
-        .model
-        .mesh
-        .joints
-        .iter()
-        .map(|j| scene.joints[&j.name].law)
-        .collect();
     let sections = scene_sections(scene, &linear.loads)?;
-    let settings = IterationSettings {
-        method: match scene.solver.method {
-            crate::scene::SolverMethod::Paper => crate::iteration::Method::Plain,
-            crate::scene::SolverMethod::Anderson => crate::iteration::Method::Anderson { depth: 8 },
-        },
-        epsilon: scene.solver.epsilon,
-        max_iterations: scene.solver.max_iterations,
-        ..IterationSettings::default()
-    };
+    let m = scene.harmonics();
     let t = Instant::now();
-    let outcome = stress_transfer(
-        &linear.model,
-        &linear.factors,
-        &linear.loads,
-        &laws,
-        &sections,
-        &settings,
-        progress,
-    )?;
+    let outcome = iterate(scene, &linear, m, &sections, &mut progress)?;
+    let harmonic_check = if m >= 2 {
+        Some(match iterate(scene, &linear, m / 2, &sections, |_| {}) {
+            Ok(half) => harmonic_check(scene, &linear, (&outcome, m), (&half, m / 2)),
+            Err(e) => HarmonicCheck {
+                m,
+                m_half: m / 2,
+                face_change: None,
+                area_change: None,
+                note: Some(format!("the run with harmonics 0..={} failed: {e}", m / 2)),
+            },
+        })
+    } else {
+        None
+    };
     linear.displacements = outcome.displacements.clone();
     linear.timings.solve += t.elapsed().as_secs_f64();
     linear.reactions = reactions(scene, &linear.model, &linear.loads, &linear.displacements);
     Ok(Run {
         linear,
         outcome: Some(outcome),
+        harmonic_check,
+        auto_steps: Vec::new(),
     })
+}
+
+/// Chooses M automatically: a linear scene solves the harmonics its loads
+/// contain; with nonlinear joints M grows 4, 8, 16, ... up to `m_max` until
+/// `measure` (e.g. the cut profiles) changes by less than `tolerance`
+/// relative to its largest value. Factors of lower harmonics are kept.
+pub fn solve_scene_auto(
+    scene: &Scene,
+    keep_msh: Option<&Path>,
+    tolerance: f64,
+    m_max: u32,
+    measure: impl Fn(&Model, &Displacements) -> Vec<f64>,
+    mut progress: impl FnMut(&crate::iteration::IterationRecord),
+) -> Result<(Scene, Run), SolverError> {
+    use crate::scene::JointLaw;
+    let nonlinear = scene.joints.values().any(|j| j.law != JointLaw::Linear);
+    let loaded = scene.loads.iter().map(|l| l.max_harmonic()).max().unwrap_or(0);
+    let mut sc = scene.clone();
+    if !nonlinear {
+        sc.harmonics = loaded.into();
+        let mut run = solve_scene(&sc, keep_msh, progress)?;
+        run.auto_steps = vec![AutoStep {
+            m: loaded,
+            iterations: 0,
+            change: None,
+        }];
+        return Ok((sc, run));
+    }
+    let mut m = loaded.max(4).min(m_max.max(loaded));
+    sc.harmonics = m.into();
+    let mut linear = solve_linear(&sc, keep_msh, true)?;
+    let mut steps: Vec<AutoStep> = Vec::new();
+    let mut previous: Option<Vec<f64>> = None;
+    let t = Instant::now();
+    loop {
+        let sections = scene_sections(&sc, &linear.loads)?;
+        let outcome = iterate(&sc, &linear, m, &sections, &mut progress)?;
+        let values = measure(&linear.model, &outcome.displacements);
+        let change = previous.as_ref().map(|p| {
+            let scale = values
+                .iter()
+                .fold(0.0f64, |a, v| a.max(v.abs()))
+                .max(f64::MIN_POSITIVE);
+            values
+                .iter()
+                .zip(p)
+                .fold(0.0f64, |a, (x, y)| a.max((x - y).abs()))
+                / scale
+        });
+        steps.push(AutoStep {
+            m,
+            iterations: outcome.history.len(),
+            change,
+        });
+        let done = change.is_some_and(|c| c < tolerance) || 2 * m > m_max;
+        if done {
+            linear.displacements = outcome.displacements.clone();
+            linear.timings.solve += t.elapsed().as_secs_f64();
+            linear.reactions = reactions(&sc, &linear.model, &linear.loads, &linear.displacements);
+            return Ok((
+                sc,
+                Run {
+                    linear,
+                    outcome: Some(outcome),
+                    harmonic_check: None,
+                    auto_steps: steps,
+                },
+            ));
+        }
+        previous = Some(values);
+        // Grow M: factorize only the new harmonics, reassemble the loads.
+        let next = 2 * m;
+        sc.harmonics = next.into();
+        let new: Vec<u32> = (m + 1..=next).collect();
+        let t1 = Instant::now();
+        linear.factors.extend(linear.model.factorize_all(&new)?);
+        linear.timings.factorize += t1.elapsed().as_secs_f64();
+        linear.loads = assemble_loads(&sc, &linear.model.mesh, next)?;
+        m = next;
+    }
 }

@@ -114,6 +114,10 @@ pub struct JointField {
 pub struct Outcome {
     /// Displacement amplitudes.
     pub displacements: Displacements,
+    /// Size of each harmonic of the released traction at the solution,
+    /// `|f_m| / c_m` over the joint nodes, for m up to what the sections
+    /// resolve: content above the solved M shows what the truncation drops.
+    pub released_spectrum: Vec<f64>,
     /// Convergence history.
     pub history: Vec<IterationRecord>,
     /// Joint field at the solution.
@@ -252,6 +256,32 @@ impl Setup<'_> {
 }
 
 impl Setup<'_> {
+    /// `|f_m| / c_m` of section forces `x` for m = 0 up to the highest
+    /// harmonic the sections resolve (both families together).
+    fn spectrum(&self, x: &[f64]) -> Vec<f64> {
+        let n_j = self.joint_nodes.len();
+        let top = self.sections.exact_up_to();
+        (0..=top)
+            .map(|m| {
+                let mut sum = 0.0;
+                for family in [Family::Symmetric, Family::Antisymmetric] {
+                    let mut f = vec![0.0; 3 * n_j];
+                    for (s, (&t, &w)) in self.sections.theta.iter().zip(&self.sections.weight).enumerate() {
+                        let (a, b) = self.sections.phi(m, family, t);
+                        let xs = &x[s * 3 * n_j..(s + 1) * 3 * n_j];
+                        for j in 0..n_j {
+                            f[3 * j] += w * a * xs[3 * j];
+                            f[3 * j + 1] += w * a * xs[3 * j + 1];
+                            f[3 * j + 2] += w * b * xs[3 * j + 2];
+                        }
+                    }
+                    sum += f.iter().map(|v| v * v).sum::<f64>();
+                }
+                sum.sqrt() / crate::elements::c_m(m)
+            })
+            .collect()
+    }
+
     /// Analyses section forces `x` into harmonic loads (the transpose of
     /// [`Setup::synthesize`] with the section weights).
     fn analyse(&self, x: &[f64], released: &mut [HarmonicLoads]) {
@@ -283,8 +313,9 @@ impl Setup<'_> {
 
 /// Anderson mixing (type II) of a fixed point `x = Psi(x)` from the
 /// residuals `f = Psi(x) - x`: `x+ = x + f - (dX + dF) gamma` with `gamma`
-/// the least-squares fit of `f` by the residual differences `dF`. Depth 0
-/// is the plain iteration `x+ = x + f`.
+/// the least-squares fit of `f` by the residual differences `dF`, and the
+/// relaxation beta: `x+ = x + beta f - (dX + beta dF) gamma`. Depth 0 is the
+/// (relaxed) plain iteration `x+ = x + beta f`.
 struct Anderson {
     depth: usize,
     dx: std::collections::VecDeque<Vec<f64>>,
@@ -308,8 +339,8 @@ impl Anderson {
         self.last = None;
     }
 
-    fn next(&mut self, x: &[f64], f: &[f64]) -> Vec<f64> {
-        let plain: Vec<f64> = x.iter().zip(f).map(|(a, b)| a + b).collect();
+    fn next(&mut self, x: &[f64], f: &[f64], beta: f64) -> Vec<f64> {
+        let plain: Vec<f64> = x.iter().zip(f).map(|(a, b)| a + beta * b).collect();
         if self.depth == 0 {
             return plain;
         }
@@ -349,7 +380,7 @@ impl Anderson {
         let mut out = plain;
         for (j, g) in gamma.iter().enumerate() {
             for ((o, dx), df) in out.iter_mut().zip(&self.dx[j]).zip(&self.df[j]) {
-                *o -= g * (dx + df);
+                *o -= g * (dx + beta * df);
             }
         }
         out
@@ -466,6 +497,9 @@ pub fn stress_transfer(
         Method::Anderson { depth } => depth,
     });
     let (mut psi0, mut psi_prev, mut best, mut best_at) = (0.0f64, f64::INFINITY, f64::INFINITY, 0u32);
+    // Relaxation of the update, halved on each stall; history start of the
+    // current relaxation level (for the limit estimate).
+    let (mut damping, mut since) = (1.0f64, 0usize);
     let load_scale = loads
         .iter()
         .flat_map(|h| h.symmetric.iter().chain(&h.antisymmetric))
@@ -482,7 +516,8 @@ pub fn stress_transfer(
             .zip(&released)
             .zip(&factor_of)
             .map(|((f, gm), factor)| {
-                let add = |a: &[f64], b: &[f64]| -> Vec<f64> { a.iter().zip(b).map(|(x, y)| x + y).collect() };
+                let add =
+                    |a: &[f64], b: &[f64]| -> Vec<f64> { a.iter().zip(b).map(|(x, y)| x + y).collect() };
                 let sym = add(&f.symmetric, &gm.symmetric);
                 let anti_needed = f.m > 0 && !sections.half;
                 if anti_needed {
@@ -543,11 +578,22 @@ pub fn stress_transfer(
         };
         progress(&record);
         history.push(record);
-        if !ratio.is_finite() || u.harmonics.iter().any(|h| h.symmetric.iter().any(|v| !v.is_finite())) {
-            return Err(no_equilibrium(&setup, &f, "the solution is not finite", record, history));
+        if !ratio.is_finite()
+            || u.harmonics
+                .iter()
+                .any(|h| h.symmetric.iter().any(|v| !v.is_finite()))
+        {
+            return Err(no_equilibrium(
+                &setup,
+                &f,
+                "the solution is not finite",
+                record,
+                history,
+            ));
         }
         if nothing_released || (it > 1 && ratio < settings.epsilon) {
             return Ok(Outcome {
+                released_spectrum: setup.spectrum(&g),
                 displacements: u,
                 history,
                 field: JointField {
@@ -560,27 +606,46 @@ pub fn stress_transfer(
             });
         }
         if it > 1 {
-            if ratio < best * 0.999 {
+            let stalled = if ratio < best * 0.999 {
                 best = ratio;
                 best_at = it;
+                None
             } else if it - best_at >= settings.stall_window {
-                let reason = format!(
+                Some(format!(
                     "the residual ratio stalls at {ratio:.3e} (no decrease in {} iterations)",
                     settings.stall_window
-                );
-                return Err(no_equilibrium(&setup, &f, &reason, record, history));
+                ))
+            } else {
+                residual_limit(&history[since..], settings.stall_window / 2)
+                    .filter(|&limit| limit > settings.epsilon && limit > 0.75 * ratio)
+                    .map(|limit| format!("the residual ratio tends to {limit:.3e} > epsilon, not to zero (it is {ratio:.3e})"))
+            };
+            if let Some(reason) = stalled {
+                // A stall may be a cycle between joint states (the law with
+                // friction is not a projection): relax the update first.
+                if damping > 0.125 {
+                    damping *= 0.5;
+                    mixer.reset();
+                    since = history.len();
+                    best = ratio;
+                    best_at = it;
+                } else {
+                    let window = &history[history.len().saturating_sub(settings.stall_window as usize)..];
+                    let (lo, hi) = window.iter().fold((f64::INFINITY, 0.0f64), |(l, h), r| {
+                        (l.min(r.ratio), h.max(r.ratio))
+                    });
+                    let kind = if hi > 2.0 * lo {
+                        "; the ratio oscillates: the iteration cycles between joint states (try more harmonics or sections)"
+                    } else {
+                        ""
+                    };
+                    let reason = format!("{reason}, also with the update relaxed to 1/8{kind}");
+                    return Err(no_equilibrium(&setup, &f, &reason, record, history));
+                }
             }
             if ratio > 1e6 {
                 let reason = format!("the residual grows (ratio {ratio:.3e})");
                 return Err(no_equilibrium(&setup, &f, &reason, record, history));
-            }
-            if let Some(limit) = residual_limit(&history, settings.stall_window / 2) {
-                if limit > settings.epsilon && limit > 0.75 * ratio {
-                    let reason = format!(
-                        "the residual ratio tends to {limit:.3e} > epsilon, not to zero (it is {ratio:.3e})"
-                    );
-                    return Err(no_equilibrium(&setup, &f, &reason, record, history));
-                }
             }
         }
         // A jump of the residual restarts the mixing from a plain step.
@@ -588,7 +653,7 @@ pub fn stress_transfer(
             mixer.reset();
         }
         psi_prev = psi;
-        x = mixer.next(&x, &f);
+        x = mixer.next(&x, &f, damping);
     }
     let last = history.last().map_or(f64::NAN, |r| r.ratio);
     Err(IterationError::NotConverged {
@@ -612,7 +677,12 @@ fn residual_limit(history: &[IterationRecord], w: u32) -> Option<f64> {
         return None;
     }
     // Window minima damp the oscillations of the accelerated iteration.
-    let min = |a: usize, b: usize| history[a..b].iter().map(|r| r.ratio).fold(f64::INFINITY, f64::min);
+    let min = |a: usize, b: usize| {
+        history[a..b]
+            .iter()
+            .map(|r| r.ratio)
+            .fold(f64::INFINITY, f64::min)
+    };
     let (r0, r1, r2) = (min(n - 3 * w, n - 2 * w), min(n - 2 * w, n - w), min(n - w, n));
     let (d1, d2) = (r0 - r1, r1 - r2);
     if !(d1 > 0.0 && d2 > 0.0 && d2 < d1) {
@@ -648,7 +718,10 @@ fn no_equilibrium(
         .max_by(|a, b| a.1.total_cmp(b.1))
         .map_or(0, |(j, _)| j);
     IterationError::NoEquilibrium {
-        joint: mesh.joints.get(worst).map_or_else(|| "?".into(), |j| j.name.clone()),
+        joint: mesh
+            .joints
+            .get(worst)
+            .map_or_else(|| "?".into(), |j| j.name.clone()),
         reason: reason.to_string(),
         open: last.open,
         slip: last.slip,

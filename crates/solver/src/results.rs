@@ -359,7 +359,11 @@ fn chain(mesh: &Mesh, joint: &axijoint_mesh::Joint) -> Vec<(f64, bool)> {
 
 impl JointFieldFile {
     /// The joint field of `field` on `mesh` with the joints' springs.
-    pub fn new(mesh: &Mesh, springs: &[crate::elements::JointSprings], field: &crate::iteration::JointField) -> Self {
+    pub fn new(
+        mesh: &Mesh,
+        springs: &[crate::elements::JointSprings],
+        field: &crate::iteration::JointField,
+    ) -> Self {
         use crate::joint_law::JointState;
         let chains: Vec<Vec<(f64, bool)>> = mesh.joints.iter().map(|j| chain(mesh, j)).collect();
         let points = field
@@ -368,7 +372,11 @@ impl JointFieldFile {
             .map(|p| {
                 let (offset, forward) = chains[p.joint][p.element];
                 let el = &mesh.joints[p.joint].elements[p.element];
-                let start = if forward { mesh.nodes[el.bottom[0]] } else { mesh.nodes[el.bottom[1]] };
+                let start = if forward {
+                    mesh.nodes[el.bottom[0]]
+                } else {
+                    mesh.nodes[el.bottom[1]]
+                };
                 let [r, z] = p.point.position;
                 JointPointOut {
                     joint: mesh.joints[p.joint].name.clone(),
@@ -392,7 +400,11 @@ impl JointFieldFile {
                         JointValues {
                             d,
                             p,
-                            opening: if state == JointState::Open { d[1].max(0.0) } else { 0.0 },
+                            opening: if state == JointState::Open {
+                                d[1].max(0.0)
+                            } else {
+                                0.0
+                            },
                             slip: if state == JointState::Slip {
                                 plastic(d[0], p[0], sp.k_xi).hypot(plastic(d[2], p[2], sp.k_theta))
                             } else {
@@ -439,5 +451,7 @@ pub fn read_joint_field(dir: &Path) -> Result<Option<JointFieldFile>, SolverErro
         return Ok(None);
     }
     let text = std::fs::read_to_string(&path).map_err(|e| out_err(&path, e))?;
-    serde_json::from_str(&text).map(Some).map_err(|e| out_err(&path, e))
+    serde_json::from_str(&text)
+        .map(Some)
+        .map_err(|e| out_err(&path, e))
 }

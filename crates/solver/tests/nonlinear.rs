@@ -288,7 +288,7 @@ fn radius(scene: &Scene) -> f64 {
 fn unchanging_joint_converges_in_one_iteration_to_the_linear_solution() {
     let mut sc = scene("block_uplift.json");
     let a = radius(&sc);
-    sc.harmonics = 4;
+    sc.harmonics = 4.into();
     // The paper's M + 1 sections, asked for explicitly (the default is 2M + 1).
     sc.sections = Some(axijoint_solver::scene::Sections {
         theta_deg: Vec::new(),
@@ -612,7 +612,7 @@ fn eccentric_uplift_converges_with_harmonics_to_the_winkler_reference() {
     println!("   M  iters  settlement (err)       tilt (err)            r_c/a (err)        max err   time");
     let mut errors = Vec::new();
     for m in [4u32, 8, 16, 32] {
-        sc.harmonics = m;
+        sc.harmonics = m.into();
         // The paper's M + 1 sections, asked for explicitly (the default is 2M + 1).
         sc.sections = Some(axijoint_solver::scene::Sections {
             theta_deg: Vec::new(),
@@ -660,7 +660,7 @@ fn eccentric_uplift_converges_with_harmonics_to_the_winkler_reference() {
 #[test]
 fn same_scene_twice_is_bit_identical() {
     let mut sc = scene("block_uplift.json");
-    sc.harmonics = 8;
+    sc.harmonics = 8.into();
     let first = run(&sc).expect("converges");
     let second = run(&sc).expect("converges");
     let bits = |d: &Displacements| -> Vec<u64> {
@@ -705,7 +705,7 @@ fn same_scene_twice_is_bit_identical() {
 #[test]
 fn too_few_sections_are_refused() {
     let mut sc = scene("block_uplift.json");
-    sc.harmonics = 8;
+    sc.harmonics = 8.into();
     for theta in [
         vec![0.0, 45.0, 90.0, 135.0, 180.0],
         (0..8).map(|k| 45.0 * f64::from(k)).collect::<Vec<_>>(),
@@ -739,7 +739,7 @@ fn too_few_sections_are_refused() {
 #[test]
 fn full_circle_sections_equal_half_circle_for_a_symmetric_load() {
     let mut sc = scene("block_uplift.json");
-    sc.harmonics = 8;
+    sc.harmonics = 8.into();
     // The paper's 9 sections over [0, pi], mirrored by the 16 below.
     sc.sections = Some(axijoint_solver::scene::Sections {
         theta_deg: Vec::new(),

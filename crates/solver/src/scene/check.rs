@@ -114,6 +114,9 @@ impl Scene {
         if self.solver.max_iterations == 0 {
             return Err(self.invalid("solver.max_iterations", "must be at least 1"));
         }
+        if self.outputs.vtu_sections < 3 {
+            return Err(self.invalid("outputs.vtu_sections", "must be at least 3"));
+        }
         self.check_cuts()
     }
 
@@ -218,12 +221,12 @@ impl Scene {
             Load::Traction(_) | Load::Ring(_) => "harmonic",
             Load::Resultant(_) | Load::Point(_) => "force",
         };
-        if m > self.harmonics {
+        if matches!(self.harmonics, crate::scene::Harmonics::Fixed(top) if m > top) {
             return Err(self.invalid(
                 key(harmonic_key),
                 format!(
                     "the load has a part of harmonic {m} but `harmonics` is {}",
-                    self.harmonics
+                    self.harmonics()
                 ),
             ));
         }
@@ -288,6 +291,15 @@ impl Scene {
                 return Err(self.invalid(
                     key("spacing"),
                     format!("{} is not allowed: it must be > 0", cut.spacing),
+                ));
+            }
+            if cut.component_index().is_none() {
+                return Err(self.invalid(
+                    key("component"),
+                    format!(
+                        "'{}' is not a stress component: sigma_r, sigma_z, sigma_theta, tau_rz, tau_rtheta or tau_ztheta",
+                        cut.component
+                    ),
                 ));
             }
             self.finite(&key("theta_deg"), &cut.theta_deg)?;

@@ -48,6 +48,62 @@ use std::fmt;
 use std::marker::PhantomData;
 use std::path::{Path, PathBuf};
 
+/// The harmonics of a run: `M` (harmonics 0..=M) or `"auto"` (chosen by
+/// the run: the loads' harmonics for a linear scene; for nonlinear joints M
+/// grows 4, 8, 16, ... until the cut profiles change by less than
+/// `solver.harmonics_tolerance`, at most `solver.max_harmonics`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Harmonics {
+    /// Harmonics 0..=M.
+    Fixed(u32),
+    /// Chosen by the run.
+    Auto,
+}
+
+impl From<u32> for Harmonics {
+    fn from(m: u32) -> Self {
+        Harmonics::Fixed(m)
+    }
+}
+
+impl Serialize for Harmonics {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match self {
+            Harmonics::Fixed(m) => s.serialize_u32(*m),
+            Harmonics::Auto => s.serialize_str("auto"),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for Harmonics {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl Visitor<'_> for V {
+            type Value = Harmonics;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a highest harmonic M >= 0 or \"auto\"")
+            }
+            fn visit_u64<E: de::Error>(self, v: u64) -> Result<Harmonics, E> {
+                u32::try_from(v)
+                    .map(Harmonics::Fixed)
+                    .map_err(|_| E::custom(format!("{v} harmonics is too many")))
+            }
+            fn visit_i64<E: de::Error>(self, v: i64) -> Result<Harmonics, E> {
+                u64::try_from(v)
+                    .map_err(|_| E::custom(format!("{v}: the highest harmonic is >= 0")))
+                    .and_then(|v| self.visit_u64(v))
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<Harmonics, E> {
+                match v {
+                    "auto" => Ok(Harmonics::Auto),
+                    _ => Err(E::custom(format!("'{v}': expected a number or \"auto\""))),
+                }
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
 /// A scene: mesh, materials, joints, supports, loads and run settings.
 ///
 /// Plain data with public fields; `path` is the file it was read from
@@ -78,8 +134,8 @@ pub struct Scene {
     /// Loads.
     #[serde(default)]
     pub loads: Vec<Load>,
-    /// Highest harmonic M: the run solves harmonics 0..=M.
-    pub harmonics: u32,
+    /// Highest harmonic M (the run solves harmonics 0..=M), or `"auto"`.
+    pub harmonics: Harmonics,
     /// Theta sections of the joint law; `None`: the paper's M + 1 sections.
     #[serde(default)]
     pub sections: Option<Sections>,
@@ -150,7 +206,16 @@ impl Scene {
 
     /// Highest harmonic M (the run solves 0..=M).
     pub fn harmonics(&self) -> u32 {
-        self.harmonics
+        match self.harmonics {
+            Harmonics::Fixed(m) => m,
+            Harmonics::Auto => self
+                .loads
+                .iter()
+                .map(|l| l.max_harmonic())
+                .max()
+                .unwrap_or(0)
+                .max(4),
+        }
     }
 
     /// The joints as the mesh crate inserts them.
@@ -169,7 +234,7 @@ impl Scene {
     /// content above M, does not fold back onto the harmonics 0..=M.
     pub fn theta_sections(&self, symmetric_only: bool) -> Result<crate::fourier::Sections, SceneError> {
         use crate::fourier::Sections as Set;
-        let m = self.harmonics as usize;
+        let m = self.harmonics() as usize;
         let invalid = |message: String| SceneError::Invalid {
             path: self.path.clone(),
             key: "sections".into(),
@@ -178,7 +243,11 @@ impl Scene {
         match &self.sections {
             Some(s) if s.count.is_some() => {
                 let n = s.count.unwrap_or(1);
-                Ok(if symmetric_only { Set::half_equispaced(n) } else { Set::full_equispaced(n) })
+                Ok(if symmetric_only {
+                    Set::half_equispaced(n)
+                } else {
+                    Set::full_equispaced(n)
+                })
             }
             Some(s) => {
                 let theta: Vec<f64> = s.theta_deg.iter().map(|d| d.to_radians()).collect();

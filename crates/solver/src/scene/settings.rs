@@ -240,6 +240,13 @@ pub struct SolverSettings {
     /// Iteration limit, >= 1.
     #[serde(default = "SolverSettings::default_max_iterations")]
     pub max_iterations: u32,
+    /// With `"harmonics": "auto"`: stop growing M when the cut profiles
+    /// change by less than this, relative to their largest value.
+    #[serde(default = "SolverSettings::default_harmonics_tolerance")]
+    pub harmonics_tolerance: f64,
+    /// With `"harmonics": "auto"`: the largest M tried.
+    #[serde(default = "SolverSettings::default_max_harmonics")]
+    pub max_harmonics: u32,
 }
 
 impl SolverSettings {
@@ -249,6 +256,12 @@ impl SolverSettings {
     fn default_max_iterations() -> u32 {
         500
     }
+    fn default_harmonics_tolerance() -> f64 {
+        0.01
+    }
+    fn default_max_harmonics() -> u32 {
+        64
+    }
 }
 
 impl Default for SolverSettings {
@@ -257,6 +270,8 @@ impl Default for SolverSettings {
             method: SolverMethod::default(),
             epsilon: SolverSettings::default_epsilon(),
             max_iterations: SolverSettings::default_max_iterations(),
+            harmonics_tolerance: SolverSettings::default_harmonics_tolerance(),
+            max_harmonics: SolverSettings::default_max_harmonics(),
         }
     }
 }
@@ -276,11 +291,33 @@ pub struct Cut {
     /// Angles in degrees where the cut is sampled.
     #[serde(default = "Cut::default_theta")]
     pub theta_deg: Vec<f64>,
+    /// The stress component its plot shows: `sigma_r`, `sigma_z`,
+    /// `sigma_theta`, `tau_rz`, `tau_rtheta` or `tau_ztheta` (the CSV has
+    /// all six).
+    #[serde(default = "Cut::default_component")]
+    pub component: String,
 }
 
 impl Cut {
     fn default_theta() -> Vec<f64> {
         vec![0.0]
+    }
+    fn default_component() -> String {
+        "sigma_z".into()
+    }
+
+    /// Index of [`Cut::component`] in the stress vector, if it is a known name.
+    pub fn component_index(&self) -> Option<usize> {
+        [
+            "sigma_r",
+            "sigma_z",
+            "sigma_theta",
+            "tau_rz",
+            "tau_rtheta",
+            "tau_ztheta",
+        ]
+        .iter()
+        .position(|n| *n == self.component)
     }
 }
 
@@ -288,14 +325,20 @@ impl Cut {
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Outputs {
-    /// CSV of every cut.
+    /// CSV of every cut, joint and of the convergence.
     #[serde(default = "yes")]
     pub csv: bool,
-    /// ParaView `.vtu` files.
-    #[serde(default)]
+    /// SVG and PNG plots of the cuts, joint states and convergence.
+    #[serde(default = "yes")]
+    pub plots: bool,
+    /// ParaView `.vtu` of the field revolved in 3D.
+    #[serde(default = "yes")]
     pub vtu: bool,
-    /// gmsh post-processing views.
-    #[serde(default)]
+    /// Sections of the turn in the `.vtu`.
+    #[serde(default = "Outputs::default_vtu_sections")]
+    pub vtu_sections: usize,
+    /// gmsh post-processing view of the meridional fields at the cuts' angles.
+    #[serde(default = "yes")]
     pub gmsh_views: bool,
 }
 
@@ -303,12 +346,20 @@ fn yes() -> bool {
     true
 }
 
+impl Outputs {
+    fn default_vtu_sections() -> usize {
+        24
+    }
+}
+
 impl Default for Outputs {
     fn default() -> Self {
         Outputs {
             csv: true,
-            vtu: false,
-            gmsh_views: false,
+            plots: true,
+            vtu: true,
+            vtu_sections: Outputs::default_vtu_sections(),
+            gmsh_views: true,
         }
     }
 }
