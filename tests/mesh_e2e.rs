@@ -409,3 +409,21 @@ fn joint_ends_junctions_tips_and_axis() {
         }
     }
 }
+
+/// `axijoint mesh` on a scene file meshes its geometry with its parameters
+/// and inserts its joints.
+#[test]
+fn cli_mesh_of_a_scene_file() {
+    let out = axijoint(&[
+        "mesh",
+        geo("pile_footing.json").to_str().unwrap(),
+        "--set",
+        "size=0.4",
+        "--json",
+    ]);
+    let (stdout, stderr) = text(&out);
+    assert!(out.status.success(), "{stderr}");
+    let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    assert!((v["joints"]["pile_side"]["lateral_area"].as_f64().unwrap() - PI).abs() < 1e-12);
+    assert!((v["bodies"]["footing"]["area"].as_f64().unwrap() - 5.5).abs() < 1e-12);
+}

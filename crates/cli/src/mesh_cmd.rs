@@ -7,7 +7,7 @@ use std::path::PathBuf;
 
 #[derive(Args)]
 pub struct MeshArgs {
-    /// A gmsh .geo (meshed with gmsh) or .msh file.
+    /// A gmsh .geo (meshed with gmsh), a .msh, or a scene .json (its mesh, parameters and joints).
     pub input: PathBuf,
     /// Physical curves that become joints: CURVE or CURVE:BOTTOM/TOP, comma separated.
     #[arg(long, value_delimiter = ',')]
@@ -55,7 +55,31 @@ pub fn run(args: &MeshArgs) -> Result<()> {
             bail!("--msh-out {} would overwrite the input", out.display());
         }
     }
-    let (mesh, validation) = prepare(&args.input, &parameters, &joints, args.msh_out.as_deref())?;
+    let is_scene = args
+        .input
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("json"));
+    let (mesh, validation) = if is_scene {
+        let mut scene = axijoint_solver::scene::Scene::from_path(&args.input)?;
+        for (name, value) in parameters {
+            scene.mesh.parameters.insert(name, value);
+        }
+        let mut specs = scene.joint_specs();
+        specs.extend(
+            joints
+                .into_iter()
+                .filter(|j| !specs.iter().any(|s| s.curve == j.curve))
+                .collect::<Vec<_>>(),
+        );
+        let path = scene.mesh_path();
+        let mut mesh = axijoint_mesh::gmsh::load(&path, &scene.gmsh_parameters(), args.msh_out.as_deref())?;
+        scene.check(&mesh)?;
+        let validation = axijoint_mesh::validate(&mut mesh, &path)?;
+        axijoint_mesh::insert_joints(&mut mesh, &specs, &path)?;
+        (mesh, validation)
+    } else {
+        prepare(&args.input, &parameters, &joints, args.msh_out.as_deref())?
+    };
     let summary = Summary::of(&mesh);
     if args.json {
         let mut value = serde_json::to_value(&summary)?;

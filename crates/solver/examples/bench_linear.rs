@@ -23,6 +23,7 @@
 //! cargo run --release -p axijoint-solver --example bench_linear -- \
 //!     --size 0.04 --harmonics 16 [--refine 2] [--par default|seq|rayon] \
 //!     [--scene geo/pile_footing.json] [--header]
+//! cargo run --release -p axijoint-solver --example bench_linear -- --print-header
 //! ```
 
 use axijoint_solver::assembly::Pattern;
@@ -52,7 +53,7 @@ struct Args {
 }
 
 fn usage() -> String {
-    "usage: bench_linear --size S --harmonics M [--refine R] [--par default|seq|rayon] [--scene FILE] [--header]"
+    "usage: bench_linear --size S --harmonics M [--refine R] [--par default|seq|rayon] [--scene FILE] [--header]\n       bench_linear --print-header"
         .into()
 }
 
@@ -86,6 +87,10 @@ fn parse_args() -> Result<Args, String> {
             }
             "--par" => args.par = value("--par")?,
             "--header" => args.header = true,
+            "--print-header" => {
+                println!("{HEADER}");
+                std::process::exit(0);
+            }
             "-h" | "--help" => return Err(usage()),
             other => return Err(format!("unknown argument {other}\n{}", usage())),
         }

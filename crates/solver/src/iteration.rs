@@ -621,25 +621,28 @@ pub fn stress_transfer(
                     .map(|limit| format!("the residual ratio tends to {limit:.3e} > epsilon, not to zero (it is {ratio:.3e})"))
             };
             if let Some(reason) = stalled {
-                // A stall may be a cycle between joint states (the law with
-                // friction is not a projection): relax the update first.
-                if damping > 0.125 {
+                // A stall whose ratio oscillates is a cycle between joint
+                // states (the law with friction is not a projection, and the
+                // shear strength drops from C to 0 on opening): relax the
+                // update first. A smooth approach to a positive limit is the
+                // signature of a load the joints cannot carry.
+                let window = &history[history.len().saturating_sub(settings.stall_window as usize)..];
+                let (lo, hi) = window.iter().fold((f64::INFINITY, 0.0f64), |(l, h), r| {
+                    (l.min(r.ratio), h.max(r.ratio))
+                });
+                let cycling = hi > 2.0 * lo;
+                if cycling && damping > 0.125 {
                     damping *= 0.5;
                     mixer.reset();
                     since = history.len();
                     best = ratio;
                     best_at = it;
                 } else {
-                    let window = &history[history.len().saturating_sub(settings.stall_window as usize)..];
-                    let (lo, hi) = window.iter().fold((f64::INFINITY, 0.0f64), |(l, h), r| {
-                        (l.min(r.ratio), h.max(r.ratio))
-                    });
-                    let kind = if hi > 2.0 * lo {
-                        "; the ratio oscillates: the iteration cycles between joint states (try more harmonics or sections)"
+                    let reason = if cycling {
+                        format!("{reason}, also with the update relaxed to 1/8; the ratio oscillates: the iteration cycles between joint states (try more harmonics or sections)")
                     } else {
-                        ""
+                        reason
                     };
-                    let reason = format!("{reason}, also with the update relaxed to 1/8{kind}");
                     return Err(no_equilibrium(&setup, &f, &reason, record, history));
                 }
             }
