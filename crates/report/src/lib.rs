@@ -131,10 +131,7 @@ pub fn write_report(
             plots::plot_profile(
                 &dir.join(format!("{name}.svg")),
                 &dir.join(format!("{name}.png")),
-                &format!(
-                    "{}: {} along {} ({})",
-                    scene.title, cut.component, cut.name, stress
-                ),
+                &format!("Cut {}: {} ({stress})", cut.name, cut.component),
                 &format!("distance along the cut ({length})"),
                 &format!("{} ({stress})", cut.component),
                 &series,
@@ -167,7 +164,7 @@ pub fn write_report(
                 plots::plot_joint_map(
                     &dir.join(format!("{name}.svg")),
                     &dir.join(format!("{name}.png")),
-                    &format!("{}: joint '{}' state (s in {length})", scene.title, j.name),
+                    &format!("Joint {}: state over s ({length}) and theta", j.name),
                     &s,
                     &jf.sections_deg,
                     &states,
