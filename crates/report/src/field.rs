@@ -127,15 +127,7 @@ pub fn inverse_map(mesh: &Mesh, cell: usize, p: [f64; 2], tol: f64) -> Option<[f
     inside.then_some(xi)
 }
 
-/// Stress components in the order of the outputs.
-pub const STRESS_NAMES: [&str; 6] = [
-    "sigma_r",
-    "sigma_z",
-    "sigma_theta",
-    "tau_rz",
-    "tau_rtheta",
-    "tau_ztheta",
-];
+pub use axijoint_solver::elements::STRESS_NAMES;
 
 /// Displacements and stresses of a solution.
 pub struct Field<'a> {

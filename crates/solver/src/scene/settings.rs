@@ -308,16 +308,9 @@ impl Cut {
 
     /// Index of [`Cut::component`] in the stress vector, if it is a known name.
     pub fn component_index(&self) -> Option<usize> {
-        [
-            "sigma_r",
-            "sigma_z",
-            "sigma_theta",
-            "tau_rz",
-            "tau_rtheta",
-            "tau_ztheta",
-        ]
-        .iter()
-        .position(|n| *n == self.component)
+        crate::elements::STRESS_NAMES
+            .iter()
+            .position(|n| *n == self.component)
     }
 }
 
