@@ -10,7 +10,8 @@
 //! DOF per harmonic), `AXIJOINT_BENCH_REPS` the rounds (default 15),
 //! `AXIJOINT_BENCH_M` the highest harmonic of the `factorize_all` case
 //! (default 4), `AXIJOINT_BENCH_PATIENCE` how long a group may wait for a
-//! quiet machine (default 120 s). The cases of a group run interleaved,
+//! quiet machine (default 120 s), `AXIJOINT_BENCH_ONLY` a comma list of the
+//! groups to run (`assembly`, `factorization`, `solves`; default all). The cases of a group run interleaved,
 //! round by round, so a load change hits all of them alike; a round counts
 //! only if other processes used less than 0.1 CPU meanwhile (from
 //! `/proc/stat`), unless fewer than 3 rounds were quiet (then all count and
@@ -436,291 +437,311 @@ fn main() {
         println!("# load average at start: {}", l.trim());
     }
     let m = 2;
+    let only = std::env::var("AXIJOINT_BENCH_ONLY").unwrap_or_default();
+    let want = |group: &str| only.is_empty() || only.split(',').any(|g| g.trim() == group);
 
     // Assembly.
-    let pinned = model.dofs.pinned(m);
-    let table = SlotTable::new(&pattern, &model);
-    let pinned_slot = pinned_slots(&pattern, &pinned);
-    {
-        // The slot-table scatter gives the library's values.
-        let (lib, _) = model.assemble(m);
-        let mut mine = vec![0.0; pattern.nnz()];
-        for_each_element(&model, m, |i, _, ke| {
-            table.scatter(i, &pinned_slot, ke, &mut mine)
-        });
-        let worst = lib
-            .iter()
-            .zip(&mine)
-            .enumerate()
-            .filter(|(k, _)| !pinned_slot[*k])
-            .map(|(_, (a, b))| (a - b).abs() / a.abs().max(1e-300))
-            .filter(|r| r.is_finite())
-            .fold(0.0f64, f64::max);
-        assert!(
-            worst < 1e-9,
-            "slot-table scatter differs from Model::assemble: {worst:e}"
-        );
-    }
-    // K_m / c_m is a quadratic polynomial in m (B_m = B_a + m B_b): three
-    // value arrays, from harmonics 2, 3, 4, give every harmonic m >= 2.
-    let poly: [Vec<f64>; 3] = {
-        let v: Vec<Vec<f64>> = (2..=4)
-            .map(|k| {
-                let c = axijoint_solver::elements::c_m(k);
-                model.assemble(k).0.iter().map(|x| x / c).collect()
-            })
-            .collect();
-        let c2: Vec<f64> = (0..v[0].len())
-            .map(|i| (v[2][i] - 2.0 * v[1][i] + v[0][i]) / 2.0)
-            .collect();
-        let c1: Vec<f64> = (0..v[0].len()).map(|i| v[1][i] - v[0][i] - 5.0 * c2[i]).collect();
-        let c0: Vec<f64> = (0..v[0].len())
-            .map(|i| v[0][i] - 2.0 * c1[i] - 4.0 * c2[i])
-            .collect();
-        [c0, c1, c2]
-    };
-    let from_poly = |k: u32| -> Vec<f64> {
-        let (c, x) = (axijoint_solver::elements::c_m(k), f64::from(k));
-        (0..poly[0].len())
-            .map(|i| c * (poly[0][i] + x * poly[1][i] + x * x * poly[2][i]))
-            .collect()
-    };
-    {
-        let k = m_max.max(4) + 3;
-        let (lib, _) = model.assemble(k);
-        let pinned_k = pinned_slots(&pattern, &model.dofs.pinned(k));
-        let scale = lib.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-        let worst = lib
-            .iter()
-            .zip(from_poly(k))
-            .zip(&pinned_k)
-            .filter(|(_, &p)| !p)
-            .map(|((a, b), _)| (a - b).abs() / scale)
-            .fold(0.0f64, f64::max);
-        println!("# K_m from the three arrays of m = 2, 3, 4 vs Model::assemble({k}): max error {worst:.1e} of max |K|");
-    }
-    let mut asm = [
-        Case::new("assemble: Model::assemble", Par::Seq, || {
-            black_box(model.assemble(m));
-        }),
-        Case::new("assemble: element matrices only", Par::Seq, || {
-            let mut s = 0.0;
-            for_each_element(&model, m, |_, _, ke| s += ke[(0, 0)]);
-            black_box(s);
-        }),
-        Case::new("assemble: elements + scatter (binary search)", Par::Seq, || {
-            let mut values = vec![0.0; pattern.nnz()];
-            for_each_element(&model, m, |_, nodes, ke| {
-                scatter_search(&pattern, &model, &pinned, nodes, ke, &mut values)
-            });
-            black_box(values);
-        }),
-        Case::new("assemble: elements + scatter (slot table)", Par::Seq, || {
-            let mut values = vec![0.0; pattern.nnz()];
+    let asm_cpu = if want("assembly") {
+        let pinned = model.dofs.pinned(m);
+        let table = SlotTable::new(&pattern, &model);
+        let pinned_slot = pinned_slots(&pattern, &pinned);
+        {
+            // The slot-table scatter gives the library's values.
+            let (lib, _) = model.assemble(m);
+            let mut mine = vec![0.0; pattern.nnz()];
             for_each_element(&model, m, |i, _, ke| {
-                table.scatter(i, &pinned_slot, ke, &mut values)
+                table.scatter(i, &pinned_slot, ke, &mut mine)
             });
-            black_box(values);
-        }),
-        Case::new(
-            "assemble: K_m = c_m (K_0 + m K_1 + m^2 K_2), stored",
-            Par::Seq,
-            || {
-                black_box(from_poly(m));
-            },
-        ),
-    ];
-    run_group(&format!("assembly of harmonic {m}"), reps, patience, &mut asm);
-    let lib = "assemble: Model::assemble";
-    println!(
-        "element matrices / Model::assemble: {}",
-        ratio(&asm, "assemble: element matrices only", lib)
-    );
-    println!(
-        "copy of the library (elements + binary-search scatter) / Model::assemble: {}",
-        ratio(&asm, "assemble: elements + scatter (binary search)", lib)
-    );
-    println!(
-        "slot-table scatter / binary-search scatter (whole assembly): {}",
-        ratio(
-            &asm,
-            "assemble: elements + scatter (slot table)",
-            "assemble: elements + scatter (binary search)"
-        )
-    );
-    println!(
-        "stored polynomial / Model::assemble: {}",
-        ratio(&asm, "assemble: K_m = c_m (K_0 + m K_1 + m^2 K_2), stored", lib)
-    );
-    println!(
-        "slot table: {} entries, {:.1} MiB",
-        table.slots.len(),
-        (table.slots.len() * 4 + table.entries.len() * 16) as f64 / 1048576.0
-    );
+            let worst = lib
+                .iter()
+                .zip(&mine)
+                .enumerate()
+                .filter(|(k, _)| !pinned_slot[*k])
+                .map(|(_, (a, b))| (a - b).abs() / a.abs().max(1e-300))
+                .filter(|r| r.is_finite())
+                .fold(0.0f64, f64::max);
+            assert!(
+                worst < 1e-9,
+                "slot-table scatter differs from Model::assemble: {worst:e}"
+            );
+        }
+        // K_m / c_m is a quadratic polynomial in m (B_m = B_a + m B_b): three
+        // value arrays, from harmonics 2, 3, 4, give every harmonic m >= 2.
+        let poly: [Vec<f64>; 3] = {
+            let v: Vec<Vec<f64>> = (2..=4)
+                .map(|k| {
+                    let c = axijoint_solver::elements::c_m(k);
+                    model.assemble(k).0.iter().map(|x| x / c).collect()
+                })
+                .collect();
+            let c2: Vec<f64> = (0..v[0].len())
+                .map(|i| (v[2][i] - 2.0 * v[1][i] + v[0][i]) / 2.0)
+                .collect();
+            let c1: Vec<f64> = (0..v[0].len()).map(|i| v[1][i] - v[0][i] - 5.0 * c2[i]).collect();
+            let c0: Vec<f64> = (0..v[0].len())
+                .map(|i| v[0][i] - 2.0 * c1[i] - 4.0 * c2[i])
+                .collect();
+            [c0, c1, c2]
+        };
+        let from_poly = |k: u32| -> Vec<f64> {
+            let (c, x) = (axijoint_solver::elements::c_m(k), f64::from(k));
+            (0..poly[0].len())
+                .map(|i| c * (poly[0][i] + x * poly[1][i] + x * x * poly[2][i]))
+                .collect()
+        };
+        {
+            let k = m_max.max(4) + 3;
+            let (lib, _) = model.assemble(k);
+            let pinned_k = pinned_slots(&pattern, &model.dofs.pinned(k));
+            let scale = lib.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            let worst = lib
+                .iter()
+                .zip(from_poly(k))
+                .zip(&pinned_k)
+                .filter(|(_, &p)| !p)
+                .map(|((a, b), _)| (a - b).abs() / scale)
+                .fold(0.0f64, f64::max);
+            println!("# K_m from the three arrays of m = 2, 3, 4 vs Model::assemble({k}): max error {worst:.1e} of max |K|");
+        }
+        let mut asm = [
+            Case::new("assemble: Model::assemble", Par::Seq, || {
+                black_box(model.assemble(m));
+            }),
+            Case::new("assemble: element matrices only", Par::Seq, || {
+                let mut s = 0.0;
+                for_each_element(&model, m, |_, _, ke| s += ke[(0, 0)]);
+                black_box(s);
+            }),
+            Case::new("assemble: elements + scatter (binary search)", Par::Seq, || {
+                let mut values = vec![0.0; pattern.nnz()];
+                for_each_element(&model, m, |_, nodes, ke| {
+                    scatter_search(&pattern, &model, &pinned, nodes, ke, &mut values)
+                });
+                black_box(values);
+            }),
+            Case::new("assemble: elements + scatter (slot table)", Par::Seq, || {
+                let mut values = vec![0.0; pattern.nnz()];
+                for_each_element(&model, m, |i, _, ke| {
+                    table.scatter(i, &pinned_slot, ke, &mut values)
+                });
+                black_box(values);
+            }),
+            Case::new(
+                "assemble: K_m = c_m (K_0 + m K_1 + m^2 K_2), stored",
+                Par::Seq,
+                || {
+                    black_box(from_poly(m));
+                },
+            ),
+        ];
+        run_group(&format!("assembly of harmonic {m}"), reps, patience, &mut asm);
+        let lib = "assemble: Model::assemble";
+        println!(
+            "element matrices / Model::assemble: {}",
+            ratio(&asm, "assemble: element matrices only", lib)
+        );
+        println!(
+            "copy of the library (elements + binary-search scatter) / Model::assemble: {}",
+            ratio(&asm, "assemble: elements + scatter (binary search)", lib)
+        );
+        println!(
+            "slot-table scatter / binary-search scatter (whole assembly): {}",
+            ratio(
+                &asm,
+                "assemble: elements + scatter (slot table)",
+                "assemble: elements + scatter (binary search)"
+            )
+        );
+        println!(
+            "stored polynomial / Model::assemble: {}",
+            ratio(&asm, "assemble: K_m = c_m (K_0 + m K_1 + m^2 K_2), stored", lib)
+        );
+        println!(
+            "slot table: {} entries, {:.1} MiB",
+            table.slots.len(),
+            (table.slots.len() * 4 + table.entries.len() * 16) as f64 / 1048576.0
+        );
 
-    // Numeric factorization.
+        Some(cpu_of(&asm, lib))
+    } else {
+        None
+    };
+
+    // Numeric factorization (the symbolic analysis and one harmonic's values
+    // are shared with the solves).
     let sym_ref = SymbolicSparseColMatRef::new_checked(n, n, &pattern.col_ptr, None, &pattern.row_idx);
     let symbolic = SymbolicLlt::try_new(sym_ref, Side::Upper).expect("symbolic");
     let (values, _) = model.assemble(m);
     let mat = SparseColMatRef::new(sym_ref, &values);
     let numeric = || Llt::try_new_with_symbolic(symbolic.clone(), mat, Side::Upper).expect("SPD");
-    let ms: Vec<u32> = (0..=m_max).collect();
-    let mut fac = [
-        Case::new("numeric Cholesky, Par::Seq", Par::Seq, || {
-            black_box(numeric());
-        }),
-        Case::new("numeric Cholesky, Par::rayon(0)", Par::rayon(0), || {
-            black_box(numeric());
-        }),
-        Case::new("Model::factorize, Par::Seq", Par::Seq, || {
-            black_box(model.factorize(m).expect("factor"));
-        }),
-        Case::new("Model::factorize, Par::rayon(0)", Par::rayon(0), || {
-            black_box(model.factorize(m).expect("factor"));
-        }),
-        Case::new("Model::factorize_all(0..=M), Par::Seq", Par::Seq, || {
-            black_box(model.factorize_all(&ms).expect("factors"));
-        }),
-        Case::new(
-            "Model::factorize_all(0..=M), Par::rayon(0)",
-            Par::rayon(0),
-            || {
+    let fac_res = if want("factorization") {
+        let ms: Vec<u32> = (0..=m_max).collect();
+        let mut fac = [
+            Case::new("numeric Cholesky, Par::Seq", Par::Seq, || {
+                black_box(numeric());
+            }),
+            Case::new("numeric Cholesky, Par::rayon(0)", Par::rayon(0), || {
+                black_box(numeric());
+            }),
+            Case::new("Model::factorize, Par::Seq", Par::Seq, || {
+                black_box(model.factorize(m).expect("factor"));
+            }),
+            Case::new("Model::factorize, Par::rayon(0)", Par::rayon(0), || {
+                black_box(model.factorize(m).expect("factor"));
+            }),
+            Case::new("Model::factorize_all(0..=M), Par::Seq", Par::Seq, || {
                 black_box(model.factorize_all(&ms).expect("factors"));
-            },
-        ),
-    ];
-    run_group(
-        &format!("factorization (harmonic {m}; factorize_all: M = {m_max})"),
-        reps,
-        patience,
-        &mut fac,
-    );
-    let t_fz_seq = median_of(&fac, "Model::factorize, Par::Seq");
-    let t_all_seq = median_of(&fac, "Model::factorize_all(0..=M), Par::Seq");
-    let t_all_ray = median_of(&fac, "Model::factorize_all(0..=M), Par::rayon(0)");
-    println!(
-        "rayon(0) / Seq: numeric {}, Model::factorize {}, factorize_all {}",
-        ratio(
-            &fac,
-            "numeric Cholesky, Par::rayon(0)",
-            "numeric Cholesky, Par::Seq"
-        ),
-        ratio(
-            &fac,
-            "Model::factorize, Par::rayon(0)",
-            "Model::factorize, Par::Seq"
-        ),
-        ratio(
-            &fac,
-            "Model::factorize_all(0..=M), Par::rayon(0)",
-            "Model::factorize_all(0..=M), Par::Seq"
-        )
-    );
-    println!(
-        "factorize_all(0..=M) / (M + 1) / Model::factorize (wall; 0.5 = perfect on 2 idle cores): Seq {:.2}, rayon(0) {:.2}",
-        t_all_seq / ms.len() as f64 / t_fz_seq,
-        t_all_ray / ms.len() as f64 / median_of(&fac, "Model::factorize, Par::rayon(0)")
-    );
+            }),
+            Case::new(
+                "Model::factorize_all(0..=M), Par::rayon(0)",
+                Par::rayon(0),
+                || {
+                    black_box(model.factorize_all(&ms).expect("factors"));
+                },
+            ),
+        ];
+        run_group(
+            &format!("factorization (harmonic {m}; factorize_all: M = {m_max})"),
+            reps,
+            patience,
+            &mut fac,
+        );
+        let t_fz_seq = median_of(&fac, "Model::factorize, Par::Seq");
+        let t_all_seq = median_of(&fac, "Model::factorize_all(0..=M), Par::Seq");
+        let t_all_ray = median_of(&fac, "Model::factorize_all(0..=M), Par::rayon(0)");
+        println!(
+            "rayon(0) / Seq: numeric {}, Model::factorize {}, factorize_all {}",
+            ratio(
+                &fac,
+                "numeric Cholesky, Par::rayon(0)",
+                "numeric Cholesky, Par::Seq"
+            ),
+            ratio(
+                &fac,
+                "Model::factorize, Par::rayon(0)",
+                "Model::factorize, Par::Seq"
+            ),
+            ratio(
+                &fac,
+                "Model::factorize_all(0..=M), Par::rayon(0)",
+                "Model::factorize_all(0..=M), Par::Seq"
+            )
+        );
+        println!(
+            "factorize_all(0..=M) / (M + 1) / Model::factorize (wall; 0.5 = perfect on 2 idle cores): Seq {:.2}, rayon(0) {:.2}",
+            t_all_seq / ms.len() as f64 / t_fz_seq,
+            t_all_ray / ms.len() as f64 / median_of(&fac, "Model::factorize, Par::rayon(0)")
+        );
+
+        Some((cpu_of(&fac, "numeric Cholesky, Par::Seq"), t_fz_seq))
+    } else {
+        None
+    };
 
     // Solves.
-    let factor = model.factorize(m).expect("factor");
-    let llt = {
-        faer::set_global_parallelism(Par::Seq);
-        numeric()
-    };
-    let n_dofs = 3 * model.mesh.nodes.len();
-    let fa: Vec<f64> = (0..n_dofs)
-        .map(|i| ((i as f64 + 1.0) * 0.754_877_666).fract() - 0.5)
-        .collect();
-    let fb: Vec<f64> = (0..n_dofs)
-        .map(|i| ((i as f64 + 1.0) * 0.569_840_291).fract() - 0.5)
-        .collect();
-    let ba = Mat::from_fn(n, 1, |i, _| fa[i]);
-    let bb = Mat::from_fn(n, 1, |i, _| fb[i]);
-    let b2 = Mat::from_fn(n, 2, |i, j| if j == 0 { fa[i] } else { fb[i] });
-    let mut probe = vec![0.0; n];
-    let mut sol = [
-        Case::new("Model::solve, 1 call x 2 RHS, Seq", Par::Seq, || {
-            black_box(model.solve(&factor, &[&fa, &fb]));
-        }),
-        Case::new("Model::solve, 2 calls x 1 RHS, Seq", Par::Seq, || {
-            black_box(model.solve(&factor, &[&fa]));
-            black_box(model.solve(&factor, &[&fb]));
-        }),
-        Case::new("Model::solve, 1 call x 2 RHS, rayon(0)", Par::rayon(0), || {
-            black_box(model.solve(&factor, &[&fa, &fb]));
-        }),
-        Case::new("Model::solve, 2 calls x 1 RHS, rayon(0)", Par::rayon(0), || {
-            black_box(model.solve(&factor, &[&fa]));
-            black_box(model.solve(&factor, &[&fb]));
-        }),
-        Case::new("faer solve_in_place, n x 2, Seq", Par::Seq, || {
-            let mut r = b2.clone();
-            llt.solve_in_place(r.as_mut());
-            black_box(r);
-        }),
-        Case::new("faer solve_in_place, 2 x (n x 1), Seq", Par::Seq, || {
-            let (mut r1, mut r2) = (ba.clone(), bb.clone());
-            llt.solve_in_place(r1.as_mut());
-            llt.solve_in_place(r2.as_mut());
-            black_box((r1, r2));
-        }),
-        Case::new(
-            "probe of Model::factorize (matvec + 1 RHS), Seq",
-            Par::Seq,
-            || {
-                pattern.sym_matvec(&values, &fa[..n], &mut probe);
-                let mut r = Mat::from_fn(n, 1, |i, _| probe[i]);
+    let sol_cpu = if want("solves") {
+        let factor = model.factorize(m).expect("factor");
+        let llt = {
+            faer::set_global_parallelism(Par::Seq);
+            numeric()
+        };
+        let n_dofs = 3 * model.mesh.nodes.len();
+        let fa: Vec<f64> = (0..n_dofs)
+            .map(|i| ((i as f64 + 1.0) * 0.754_877_666).fract() - 0.5)
+            .collect();
+        let fb: Vec<f64> = (0..n_dofs)
+            .map(|i| ((i as f64 + 1.0) * 0.569_840_291).fract() - 0.5)
+            .collect();
+        let ba = Mat::from_fn(n, 1, |i, _| fa[i]);
+        let bb = Mat::from_fn(n, 1, |i, _| fb[i]);
+        let b2 = Mat::from_fn(n, 2, |i, j| if j == 0 { fa[i] } else { fb[i] });
+        let mut probe = vec![0.0; n];
+        let mut sol = [
+            Case::new("Model::solve, 1 call x 2 RHS, Seq", Par::Seq, || {
+                black_box(model.solve(&factor, &[&fa, &fb]));
+            }),
+            Case::new("Model::solve, 2 calls x 1 RHS, Seq", Par::Seq, || {
+                black_box(model.solve(&factor, &[&fa]));
+                black_box(model.solve(&factor, &[&fb]));
+            }),
+            Case::new("Model::solve, 1 call x 2 RHS, rayon(0)", Par::rayon(0), || {
+                black_box(model.solve(&factor, &[&fa, &fb]));
+            }),
+            Case::new("Model::solve, 2 calls x 1 RHS, rayon(0)", Par::rayon(0), || {
+                black_box(model.solve(&factor, &[&fa]));
+                black_box(model.solve(&factor, &[&fb]));
+            }),
+            Case::new("faer solve_in_place, n x 2, Seq", Par::Seq, || {
+                let mut r = b2.clone();
                 llt.solve_in_place(r.as_mut());
                 black_box(r);
-            },
-        ),
-    ];
-    let solve_reps = if n < 200_000 { reps.max(30) } else { reps.max(3) };
-    run_group(&format!("solves (harmonic {m})"), solve_reps, patience, &mut sol);
-    println!(
-        "2 calls x 1 RHS / 1 call x 2 RHS: Model::solve Seq {}, rayon(0) {}; faer alone {}",
-        ratio(
-            &sol,
-            "Model::solve, 2 calls x 1 RHS, Seq",
-            "Model::solve, 1 call x 2 RHS, Seq"
-        ),
-        ratio(
-            &sol,
-            "Model::solve, 2 calls x 1 RHS, rayon(0)",
-            "Model::solve, 1 call x 2 RHS, rayon(0)"
-        ),
-        ratio(
-            &sol,
-            "faer solve_in_place, 2 x (n x 1), Seq",
-            "faer solve_in_place, n x 2, Seq"
-        )
-    );
-    println!(
-        "rayon(0) / Seq, Model::solve 2 RHS: {}",
-        ratio(
-            &sol,
-            "Model::solve, 1 call x 2 RHS, rayon(0)",
-            "Model::solve, 1 call x 2 RHS, Seq"
-        )
-    );
-    println!(
-        "probe / Model::factorize (Seq): {:.2}",
-        median_of(&sol, "probe of Model::factorize (matvec + 1 RHS), Seq") / t_fz_seq
-    );
+            }),
+            Case::new("faer solve_in_place, 2 x (n x 1), Seq", Par::Seq, || {
+                let (mut r1, mut r2) = (ba.clone(), bb.clone());
+                llt.solve_in_place(r1.as_mut());
+                llt.solve_in_place(r2.as_mut());
+                black_box((r1, r2));
+            }),
+            Case::new(
+                "probe of Model::factorize (matvec + 1 RHS), Seq",
+                Par::Seq,
+                || {
+                    pattern.sym_matvec(&values, &fa[..n], &mut probe);
+                    let mut r = Mat::from_fn(n, 1, |i, _| probe[i]);
+                    llt.solve_in_place(r.as_mut());
+                    black_box(r);
+                },
+            ),
+        ];
+        let solve_reps = if n < 200_000 { reps.max(30) } else { reps.max(3) };
+        run_group(&format!("solves (harmonic {m})"), solve_reps, patience, &mut sol);
+        println!(
+            "2 calls x 1 RHS / 1 call x 2 RHS: Model::solve Seq {}, rayon(0) {}; faer alone {}",
+            ratio(
+                &sol,
+                "Model::solve, 2 calls x 1 RHS, Seq",
+                "Model::solve, 1 call x 2 RHS, Seq"
+            ),
+            ratio(
+                &sol,
+                "Model::solve, 2 calls x 1 RHS, rayon(0)",
+                "Model::solve, 1 call x 2 RHS, rayon(0)"
+            ),
+            ratio(
+                &sol,
+                "faer solve_in_place, 2 x (n x 1), Seq",
+                "faer solve_in_place, n x 2, Seq"
+            )
+        );
+        println!(
+            "rayon(0) / Seq, Model::solve 2 RHS: {}",
+            ratio(
+                &sol,
+                "Model::solve, 1 call x 2 RHS, rayon(0)",
+                "Model::solve, 1 call x 2 RHS, Seq"
+            )
+        );
+        if let Some((_, t_fz_seq)) = fac_res {
+            println!(
+                "probe / Model::factorize (Seq): {:.2}",
+                median_of(&sol, "probe of Model::factorize (matvec + 1 RHS), Seq") / t_fz_seq
+            );
+        }
+        Some(cpu_of(&sol, "Model::solve, 1 call x 2 RHS, Seq"))
+    } else {
+        None
+    };
+
     // Shares from CPU times: all three run on one thread here, so their CPU
     // time is what they cost, whatever else the machine does.
-    let (a, f, so) = (
-        cpu_of(&asm, lib),
-        cpu_of(&fac, "numeric Cholesky, Par::Seq"),
-        cpu_of(&sol, "Model::solve, 1 call x 2 RHS, Seq"),
-    );
-    let total = a + f + so;
-    println!(
-        "\nshare of one harmonic (Par::Seq CPU time; assembly + numeric Cholesky + 2-RHS solve = {:.1} ms): assembly {:.0} %, numeric {:.0} %, solve {:.0} %",
-        1e3 * total,
-        100.0 * a / total,
-        100.0 * f / total,
-        100.0 * so / total
-    );
+    if let (Some(a), Some((f, _)), Some(so)) = (asm_cpu, fac_res, sol_cpu) {
+        let total = a + f + so;
+        println!(
+            "\nshare of one harmonic (Par::Seq CPU time; assembly + numeric Cholesky + 2-RHS solve = {:.1} ms): assembly {:.0} %, numeric {:.0} %, solve {:.0} %",
+            1e3 * total,
+            100.0 * a / total,
+            100.0 * f / total,
+            100.0 * so / total
+        );
+    }
 }

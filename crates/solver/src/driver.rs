@@ -464,6 +464,7 @@ fn iteration_settings(scene: &Scene) -> crate::iteration::IterationSettings {
         method: match scene.solver.method {
             crate::scene::SolverMethod::Paper => Method::Plain,
             crate::scene::SolverMethod::Anderson => Method::Anderson { depth: 8 },
+            crate::scene::SolverMethod::Newton => Method::Newton,
         },
         epsilon: scene.solver.epsilon,
         max_iterations: scene.solver.max_iterations,

@@ -189,7 +189,8 @@ fn defaults_of_a_minimal_scene() {
     assert_eq!(scene.units.stress, "MPa");
     assert_eq!(scene.solver.epsilon, 1e-6);
     assert_eq!(scene.solver.max_iterations, 500);
-    assert!(scene.outputs.csv && !scene.outputs.vtu);
+    assert!(scene.outputs.csv && scene.outputs.plots && scene.outputs.vtu && scene.outputs.gmsh_views);
+    assert_eq!(scene.outputs.vtu_sections, 24);
     assert_eq!(scene.theta_sections(false).unwrap().theta, vec![0.0]);
     match &scene.loads[0] {
         Load::Traction(t) => {
@@ -494,9 +495,9 @@ fn settings_values() {
         ),
         (
             r#""method": "paper""#,
-            r#""method": "newton""#,
+            r#""method": "multigrid""#,
             "solver.method",
-            "newton",
+            "multigrid",
         ),
         (
             r#"[0, 45, 90, 135, 180]"#,

@@ -26,7 +26,9 @@ pub use joint::{
     add_traction_forces, joint_points, joint_stiffness, relative_displacement, JointError, JointPoint,
     JointRule, JointSprings,
 };
-pub use solid::{b_matrix, b_matrix_on_axis, solid_stiffness, strain_at, stress_at, SolidScratch, STRESS_NAMES};
+pub use solid::{
+    b_matrix, b_matrix_on_axis, solid_stiffness, strain_at, stress_at, SolidScratch, STRESS_NAMES,
+};
 pub use traction::edge_load;
 
 /// Degrees of freedom per node: `(u_r, u_z, u_theta)`.

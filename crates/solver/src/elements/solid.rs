@@ -188,7 +188,14 @@ pub fn solid_stiffness(
 
 /// Names of the stress components in the order of [`stress_at`] (and of
 /// every output).
-pub const STRESS_NAMES: [&str; 6] = ["sigma_r", "sigma_z", "sigma_theta", "tau_rz", "tau_rtheta", "tau_ztheta"];
+pub const STRESS_NAMES: [&str; 6] = [
+    "sigma_r",
+    "sigma_z",
+    "sigma_theta",
+    "tau_rz",
+    "tau_rtheta",
+    "tau_ztheta",
+];
 
 /// Strain amplitudes `(e_r, e_z, e_th, g_rz, g_rth, g_zth)` of harmonic `m`
 /// at the reference point `xi` of an element with nodal displacements

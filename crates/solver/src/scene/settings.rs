@@ -225,6 +225,13 @@ pub enum SolverMethod {
     /// factorization, one solve per iteration like the paper's.
     #[default]
     Anderson,
+    /// Semi-smooth Newton-Krylov on the same fixed point: the joint tangent
+    /// (open, stick, slip) couples the harmonics inside a Krylov solve that
+    /// only back-substitutes with the elastic factors; the directions are
+    /// reused across Newton steps, a line search on the residual (trial
+    /// evaluations without a solve) and a fallback to the plain step
+    /// globalize it. No coupled system is factorized.
+    Newton,
 }
 
 /// Solver settings.
