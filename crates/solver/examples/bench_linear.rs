@@ -1,11 +1,13 @@
 //! Benchmark driver of the linear solve (issue 3, item 5); `scripts/bench`
 //! runs it. Meshes a scene (Scene P by default) at one element size, then
 //!
-//! 1. per harmonic, one harmonic at a time (the median over the sampled
-//!    harmonics 0, 1, 2, each timed several times on small models):
-//!    assembly (`Model::assemble`), `Model::factorize` (assembly + numeric
-//!    Cholesky + probe solve; the factorization column is this minus the
-//!    assembly) and one `Model::solve` call with two right-hand sides;
+//! 1. per harmonic, one harmonic at a time (the median over harmonics 1 and
+//!    2, each timed several times on small models): assembly
+//!    (`Model::assemble`), the numeric Cholesky alone (faer
+//!    `Llt::try_new_with_symbolic` on the model's pattern and values, as
+//!    `Model::factorize` calls it), `Model::factorize` (assembly + numeric
+//!    Cholesky + probe solve) and one `Model::solve` call with two
+//!    right-hand sides;
 //! 2. the production path of `axijoint solve`: `Model::factorize_all` of
 //!    harmonics 0..=M (rayon over harmonics, all factors kept) and the
 //!    2-RHS solves of every harmonic in parallel (wall times);
@@ -31,7 +33,8 @@ use axijoint_solver::driver::{build_model, mesh_scene};
 use axijoint_solver::linear::Model;
 use axijoint_solver::scene::Scene;
 use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, SymbolicCholeskyRaw};
-use faer::sparse::SymbolicSparseColMatRef;
+use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::Side;
 use rayon::prelude::*;
 use std::path::PathBuf;
@@ -39,7 +42,8 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 const HEADER: &str = "scene,size,refine,M,par,threads,nodes,cells,dof,nnz_K,nnz_L,supernodal,\
-mesh_s,setup_s,assemble_s,factor_s,solve2_s,assemble_cpu_s,factor_cpu_s,solve2_cpu_s,\
+mesh_s,setup_s,assemble_s,numeric_s,factorize_s,solve2_s,\
+assemble_cpu_s,numeric_cpu_s,factorize_cpu_s,solve2_cpu_s,\
 factorize_all_s,factorize_all_cpu_s,solve_all_s,solve_all_cpu_s,\
 factorize_all_per_h_s,solve_all_per_h_s,peak_one_mb,peak_mb,others_cpus";
 
@@ -194,9 +198,9 @@ fn loads(n_dofs: usize) -> (Vec<f64>, Vec<f64>) {
     (a, b)
 }
 
-/// Entries of the Cholesky factor and whether faer chose the supernodal
-/// kind, from the same pattern `Model::new` builds.
-fn factor_size(model: &Model) -> (usize, bool) {
+/// The equation-space pattern `Model::new` builds (the model keeps its own
+/// private), for a numeric factorization timed without the library's probe.
+fn model_pattern(model: &Model) -> Pattern {
     let joint_nodes: Vec<Vec<usize>> = model
         .mesh
         .joints
@@ -204,7 +208,7 @@ fn factor_size(model: &Model) -> (usize, bool) {
         .flat_map(|j| j.elements.iter())
         .map(|e| e.bottom.iter().chain(&e.top).copied().collect())
         .collect();
-    let pattern = Pattern::new(
+    Pattern::new(
         &model.dofs,
         model
             .mesh
@@ -212,10 +216,21 @@ fn factor_size(model: &Model) -> (usize, bool) {
             .iter()
             .map(|c| c.nodes.as_slice())
             .chain(joint_nodes.iter().map(Vec::as_slice)),
-    );
-    let sym =
-        SymbolicSparseColMatRef::new_checked(pattern.n, pattern.n, &pattern.col_ptr, None, &pattern.row_idx);
-    match factorize_symbolic_cholesky(sym, Side::Upper, Default::default(), Default::default()) {
+    )
+}
+
+fn pattern_ref(p: &Pattern) -> SymbolicSparseColMatRef<'_, usize> {
+    SymbolicSparseColMatRef::new_checked(p.n, p.n, &p.col_ptr, None, &p.row_idx)
+}
+
+/// Entries of the Cholesky factor and whether faer chose the supernodal kind.
+fn factor_size(pattern: &Pattern) -> (usize, bool) {
+    match factorize_symbolic_cholesky(
+        pattern_ref(pattern),
+        Side::Upper,
+        Default::default(),
+        Default::default(),
+    ) {
         Ok(s) => (s.len_val(), matches!(s.raw(), SymbolicCholeskyRaw::Supernodal(_))),
         Err(_) => (0, false),
     }
@@ -244,7 +259,11 @@ fn run(args: &Args) -> Result<String, String> {
     let t = Instant::now();
     let model = build_model(&scene, mesh).map_err(|e| e.to_string())?;
     let setup_s = t.elapsed().as_secs_f64();
-    let (nnz_l, supernodal) = factor_size(&model);
+    let pattern = model_pattern(&model);
+    if pattern.nnz() != model.nnz() {
+        return Err("the driver's pattern differs from the model's".into());
+    }
+    let (nnz_l, supernodal) = factor_size(&pattern);
     eprintln!(
         "bench_linear: size {} M {m_max}: {} DOF per harmonic, nnz(K) {}, nnz(L) {nnz_l}; mesh {mesh_s:.2} s, setup {setup_s:.2} s",
         args.size,
@@ -256,23 +275,41 @@ fn run(args: &Args) -> Result<String, String> {
     // CPUs used by other processes while we measure (phases 1 and 2).
     let (busy0, cpu0, t0) = (machine_busy_seconds(), cpu_seconds(), Instant::now());
 
-    // 1. Per harmonic, one at a time.
+    // 1. Per harmonic, one at a time (harmonics 1 and 2: every harmonic has
+    //    the same pattern and cost).
     let small = model.n_eq() < 200_000;
     let (budget, reps) = if small { (1.0, 9) } else { (0.0, 1) };
     // (wall, CPU) per sampled harmonic.
-    let (mut asm, mut fac, mut sol) = (Vec::new(), Vec::new(), Vec::new());
-    for m in (0..=m_max).take(3) {
-        let (ta, ca, _) = timed(budget, reps, || model.assemble(m));
-        let (tf, cf, factor) = timed(budget, reps, || model.factorize(m));
-        let factor = factor.map_err(|e| e.to_string())?;
-        let (ts, cs, _) = timed(budget, reps.max(3), || model.solve(&factor, &[&fa, &fb]));
-        eprintln!(
-            "  m = {m}: assemble {ta:.4} s ({ca:.4} CPU s), factorize {tf:.4} s ({cf:.4}), solve(2 RHS) {ts:.4} s ({cs:.4})"
-        );
-        asm.push((ta, ca));
-        fac.push(((tf - ta).max(0.0), (cf - ca).max(0.0)));
-        sol.push((ts, cs));
+    let (mut asm, mut num, mut fac, mut sol) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    {
+        let symbolic =
+            SymbolicLlt::try_new(pattern_ref(&pattern), Side::Upper).map_err(|e| format!("{e:?}"))?;
+        let sample: Vec<u32> = if m_max == 0 {
+            vec![0]
+        } else {
+            (1..=m_max.min(2)).collect()
+        };
+        for m in sample {
+            let (ta, ca, (values, _)) = timed(budget, reps, || model.assemble(m));
+            let mat = SparseColMatRef::new(pattern_ref(&pattern), &values);
+            let (tn, cn, llt) = timed(budget, reps, || {
+                Llt::try_new_with_symbolic(symbolic.clone(), mat, Side::Upper)
+            });
+            llt.map_err(|e| format!("harmonic {m}: {e:?}"))?;
+            let (tf, cf, factor) = timed(budget, reps, || model.factorize(m));
+            let factor = factor.map_err(|e| e.to_string())?;
+            let (ts, cs, _) = timed(budget, reps.max(3), || model.solve(&factor, &[&fa, &fb]));
+            eprintln!(
+                "  m = {m}: assemble {ta:.4} s ({ca:.4} CPU s), numeric Cholesky {tn:.4} s ({cn:.4}), \
+                 Model::factorize {tf:.4} s ({cf:.4}), solve(2 RHS) {ts:.4} s ({cs:.4})"
+            );
+            asm.push((ta, ca));
+            num.push((tn, cn));
+            fac.push((tf, cf));
+            sol.push((ts, cs));
+        }
     }
+    drop(pattern);
     let wall = |v: &[(f64, f64)]| median(v.iter().map(|x| x.0).collect());
     let cpu = |v: &[(f64, f64)]| median(v.iter().map(|x| x.1).collect());
     let peak_one = peak_rss_mb();
@@ -304,7 +341,7 @@ fn run(args: &Args) -> Result<String, String> {
         .map_or("?".into(), |s| s.to_string_lossy().into_owned());
     Ok(format!(
         "{scene_name},{},{refine},{m_max},{},{},{nodes},{cells},{},{},{nnz_l},{},{mesh_s:.4},{setup_s:.4},\
-         {:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{fall:.4},{fall_cpu:.4},{sall:.4},{sall_cpu:.4},{:.6},{:.6},{peak_one:.1},{peak:.1},{others:.2}",
+         {:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{fall:.4},{fall_cpu:.4},{sall:.4},{sall_cpu:.4},{:.6},{:.6},{peak_one:.1},{peak:.1},{others:.2}",
         args.size,
         args.par,
         rayon::current_num_threads(),
@@ -312,9 +349,11 @@ fn run(args: &Args) -> Result<String, String> {
         model.nnz(),
         u8::from(supernodal),
         wall(&asm),
+        wall(&num),
         wall(&fac),
         wall(&sol),
         cpu(&asm),
+        cpu(&num),
         cpu(&fac),
         cpu(&sol),
         fall / h,

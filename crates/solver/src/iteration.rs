@@ -14,11 +14,11 @@
 //! `Psi(x) = release(u_F + W x)`, `W = S K^-1 A` (A the analysis into
 //! harmonics, K^-1 the back-substitution of every harmonic with its factor,
 //! S the synthesis of the joint-node displacements at the sections,
-//! `u_F = S K^-1 F`). One evaluation of `Psi` ([`Setup::evaluate`], shared
+//! `u_F = S K^-1 F`). One evaluation of `Psi` (`Setup::evaluate`, shared
 //! by every method) costs one back-substitution sweep. The paper iterates
 //! `x <- Psi(x)` (and then `rho_s = Psi(x)_s - x_s`), [`Method::Anderson`]
 //! mixes the last iterates, [`Method::Newton`] solves `R(x) = Psi(x) - x = 0`
-//! by a semi-smooth Newton-Krylov method (see [`newton`]). Only
+//! by a semi-smooth Newton-Krylov method (see the private `newton` function). Only
 //! back-substitutions are ever repeated: no coupled system is factorized.
 
 use crate::driver::{Displacements, HarmonicDisplacement};
@@ -48,7 +48,7 @@ pub enum Method {
     /// release at the states of x, W the elastic back-substitution chain),
     /// solved by a minimal-residual Krylov method (GCR, equivalent to GMRES)
     /// whose directions are recycled across Newton steps, and a backtracking
-    /// line search on `|R|` with a fallback to the plain step. See [`newton`].
+    /// line search on `|R|` with a fallback to the plain step. See the `newton` function in this module.
     Newton,
 }
 
@@ -325,12 +325,22 @@ impl<'a> Setup<'a> {
         let m_max = loads.iter().map(|h| h.m).max().unwrap_or(0);
         let resolved = sections.resolves_up_to(m_max);
         if m_max > 0 && resolved.is_none_or(|r| r + 1 < m_max) {
+            let advice = if sections.half {
+                format!(
+                    "give at least {} evenly spaced sections over the half turn (the paper's M + 1), or {} over the full turn",
+                    m_max + 1,
+                    2 * m_max
+                )
+            } else {
+                format!(
+                    "the loads are not symmetric about theta = 0, so the sections must cover the full turn: give at least {} evenly spaced over [0, 360) degrees",
+                    2 * m_max
+                )
+            };
             return Err(IterationError::Setup(format!(
-                "the {} sections resolve harmonics only up to {}, not 0..={m_max}: give at least {} evenly spaced sections over the half turn (the paper's M + 1), or {} over the full turn",
+                "the {} sections resolve harmonics only up to {}, not 0..={m_max}: {advice}",
                 sections.len(),
                 resolved.map_or("none".into(), |r| r.to_string()),
-                m_max + 1,
-                2 * m_max
             )));
         }
 
@@ -1441,6 +1451,41 @@ fn residual_limit(history: &[IterationRecord], w: u32) -> Option<f64> {
     Some(r2 - d2 * q / (1.0 - q))
 }
 
+/// Largest `k h / E` of joint `j`: its largest spring stiffness times its
+/// mean element length over the smallest Young's modulus of its bodies.
+fn joint_stiffness_ratio(setup: &Setup, j: usize) -> f64 {
+    let model = setup.model;
+    let (Some(joint), Some(props)) = (model.mesh.joints.get(j), model.joints.get(j)) else {
+        return 0.0;
+    };
+    let k = props
+        .springs
+        .k_xi
+        .max(props.springs.k_eta)
+        .max(props.springs.k_theta);
+    let n = joint.elements.len().max(1) as f64;
+    let h: f64 = joint
+        .elements
+        .iter()
+        .map(|e| {
+            let (a, b) = (model.mesh.nodes[e.bottom[0]], model.mesh.nodes[e.bottom[1]]);
+            (b[0] - a[0]).hypot(b[1] - a[1])
+        })
+        .sum::<f64>()
+        / n;
+    let e = joint
+        .bottom_bodies
+        .iter()
+        .chain(&joint.top_bodies)
+        .map(|&b| model.materials[b].e)
+        .fold(f64::INFINITY, f64::min);
+    if e.is_finite() && e > 0.0 {
+        k * h / e
+    } else {
+        0.0
+    }
+}
+
 /// The no-equilibrium error, naming the joint with the largest residual `f`.
 fn no_equilibrium(
     setup: &Setup,
@@ -1466,12 +1511,22 @@ fn no_equilibrium(
         .enumerate()
         .max_by(|a, b| a.1.total_cmp(b.1))
         .map_or(0, |(j, _)| j);
+    // A joint much stiffer than its bodies (k h / E >> 1) makes the
+    // iteration crawl, which looks like no equilibrium: say so.
+    let stiffness = joint_stiffness_ratio(setup, worst);
+    let reason = if stiffness > 5.0 {
+        format!(
+            "{reason} (or the joint is too stiff for the iteration: k h / E = {stiffness:.1}; it converges for k h / E up to about 1, so a softer joint or a finer mesh there may converge)"
+        )
+    } else {
+        reason.to_string()
+    };
     IterationError::NoEquilibrium {
         joint: mesh
             .joints
             .get(worst)
             .map_or_else(|| "?".into(), |j| j.name.clone()),
-        reason: reason.to_string(),
+        reason,
         open: last.open,
         slip: last.slip,
         total: last.open + last.slip + last.stick,

@@ -1142,8 +1142,7 @@ fn case6_too_few_sections_are_refused() {
 /// exactly the refused set 0, 45, ..., 180 degrees: it must offer only the
 /// full turn.
 #[test]
-#[ignore = "bug 2 in crates/solver/src/iteration.rs: the too-few-sections message offers the half turn to a torsional load (docs/stability.md)"]
-fn known_bug_2_sections_message_for_torsion_offers_only_the_full_turn() {
+fn sections_message_for_torsion_offers_only_the_full_turn() {
     let _guard = serial();
     let mut torsion = torsion_scene();
     torsion.harmonics = 4.into();
