@@ -325,7 +325,8 @@ impl<'a> Setup<'a> {
         let m_max = loads.iter().map(|h| h.m).max().unwrap_or(0);
         let resolved = sections.resolves_up_to(m_max);
         if m_max > 0 && resolved.is_none_or(|r| r + 1 < m_max) {
-            let advice = if sections.half {
+            let symmetric = !torsion && loads.iter().all(|h| h.antisymmetric.iter().all(|&v| v == 0.0));
+            let advice = if symmetric {
                 format!(
                     "give at least {} evenly spaced sections over the half turn (the paper's M + 1), or {} over the full turn",
                     m_max + 1,
@@ -333,7 +334,7 @@ impl<'a> Setup<'a> {
                 )
             } else {
                 format!(
-                    "the loads are not symmetric about theta = 0, so the sections must cover the full turn: give at least {} evenly spaced over [0, 360) degrees",
+                    "the loads are not symmetric about theta = 0: give at least {} over the full turn (evenly spaced in [0, 360) degrees)",
                     2 * m_max
                 )
             };
