@@ -36,6 +36,7 @@ enum Command {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    axijoint_solver::linear::prefer_harmonic_parallelism();
     let result = match cli.command {
         Command::Mesh(args) => mesh_cmd::run(&args),
         Command::Solve(args) => solve_cmd::run_solve(&args),

@@ -32,6 +32,16 @@ pub enum SolveError {
     Factorization(String),
 }
 
+/// Sets faer's parallelism for this process to sequential inside each
+/// factorization and solve: the harmonics already run in parallel (rayon),
+/// and measured on Scene P (docs/performance.md) one harmonic factorizes 3x
+/// faster sequentially at 1e4 DOF and 1.8x at 1e5 (10 % slower at 5e5),
+/// while with all harmonics in parallel the two modes are within 15 %.
+/// Called once by the `axijoint` binary; a library user may choose otherwise.
+pub fn prefer_harmonic_parallelism() {
+    faer::set_global_parallelism(faer::Par::Seq);
+}
+
 /// Numeric factor of one harmonic.
 pub struct HarmonicFactor {
     /// Harmonic m.
