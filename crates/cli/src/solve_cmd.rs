@@ -200,7 +200,10 @@ fn print_summary(path: &Path, scene: &Scene, header: &SolutionHeader, out: &Path
                 "  harmonics: 0..={} against 0..={}: loaded-face displacement changes {f:.2e}, joint open/slip area {a:.2e} (relative)",
                 c["m"], c["m_half"]
             ),
-            _ => println!("  harmonics: no M/2 comparison: {}", c["note"].as_str().unwrap_or("?")),
+            _ => println!(
+                "  harmonics: no comparison with 0..={}: that run did not converge (reason in solution.json, extra.harmonic_check)",
+                c["m_half"]
+            ),
         }
     }
     if let Some(a) = header.extra.get("auto_harmonics") {
