@@ -17,7 +17,7 @@
 //!
 //! Run with `--nocapture` for the measured numbers.
 
-use axijoint_solver::driver::{scene_sections, solve_linear, solve_scene, Displacements};
+use axijoint_solver::driver::{scene_sections, solve_linear, solve_scene};
 use axijoint_solver::error::SolverError;
 use axijoint_solver::iteration::{
     stress_transfer, FixedPoint, IterationError, IterationRecord, IterationSettings, Method,
@@ -25,15 +25,10 @@ use axijoint_solver::iteration::{
 use axijoint_solver::joint_law::JointState;
 use axijoint_solver::scene::{JointLaw, Load, Scene, ShearCheck, SolverMethod};
 use std::f64::consts::PI;
-use std::path::PathBuf;
 use std::time::Instant;
 
-/// Path of a file in the workspace's `geo/` folder.
-fn geo(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../../geo")
-        .join(name)
-}
+mod joint_cases;
+use joint_cases::*;
 
 /// A Scene P variant with the dealiased default sections.
 fn scene_p(name: &str, method: SolverMethod) -> Scene {
@@ -51,24 +46,6 @@ fn laws(scene: &Scene, mesh: &axijoint_mesh::Mesh) -> Vec<JointLaw> {
 
 fn norm(v: &[f64]) -> f64 {
     v.iter().map(|x| x * x).sum::<f64>().sqrt()
-}
-
-/// Largest amplitude difference relative to the largest amplitude.
-fn relative_difference(a: &Displacements, b: &Displacements) -> f64 {
-    let (mut diff, mut scale) = (0.0f64, 0.0f64);
-    for (ha, hb) in a.harmonics.iter().zip(&b.harmonics) {
-        assert_eq!(ha.m, hb.m);
-        for (x, y) in ha
-            .symmetric
-            .iter()
-            .chain(&ha.antisymmetric)
-            .zip(hb.symmetric.iter().chain(&hb.antisymmetric))
-        {
-            diff = diff.max((x - y).abs());
-            scale = scale.max(x.abs());
-        }
-    }
-    diff / scale
 }
 
 /// Pseudo-random numbers in [-1, 1) (a fixed linear congruential sequence).

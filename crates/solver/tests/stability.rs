@@ -57,15 +57,16 @@
 
 use axijoint_mesh::Mesh;
 use axijoint_solver::driver::{face_displacement, solve_linear, solve_scene, Displacements, Run};
-use axijoint_solver::elements::edge_load;
 use axijoint_solver::error::SolverError;
-use axijoint_solver::iteration::{IterationError, IterationRecord, JointField};
+use axijoint_solver::iteration::{IterationError, IterationRecord};
 use axijoint_solver::joint_law::JointState;
-use axijoint_solver::scene::{JointLaw, Load, MohrCoulomb, ResultantLoad, Scene, Sections, SolverMethod};
+use axijoint_solver::scene::{JointLaw, MohrCoulomb, Scene, Sections, SolverMethod};
 use std::f64::consts::PI;
 use std::panic::{catch_unwind, AssertUnwindSafe};
-use std::path::PathBuf;
 use std::sync::{Mutex, MutexGuard};
+
+mod joint_cases;
+use joint_cases::*;
 
 // ---------------------------------------------------------------- harness
 
@@ -74,18 +75,6 @@ static SERIAL: Mutex<()> = Mutex::new(());
 
 fn serial() -> MutexGuard<'static, ()> {
     SERIAL.lock().unwrap_or_else(|e| e.into_inner())
-}
-
-/// Path of a file in the workspace's `geo/` folder.
-fn geo(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../../geo")
-        .join(name)
-}
-
-/// A scene file of `geo/`.
-fn scene(name: &str) -> Scene {
-    Scene::from_path(geo(name)).unwrap_or_else(|e| panic!("{name}: {e}"))
 }
 
 /// A scene from JSON text standing for `geo/<name>` (for the mesh path).
@@ -404,14 +393,6 @@ fn torsion_scene() -> Scene {
     sc
 }
 
-/// The resultant load of a scene (the block scenes have exactly one).
-fn resultant(sc: &mut Scene) -> &mut ResultantLoad {
-    match &mut sc.loads[0] {
-        Load::Resultant(l) => l,
-        other => panic!("expected a resultant load, got {other:?}"),
-    }
-}
-
 /// The Mohr-Coulomb law of a joint.
 fn law(sc: &Scene, joint: &str) -> MohrCoulomb {
     match sc.joints[joint].law {
@@ -420,128 +401,9 @@ fn law(sc: &Scene, joint: &str) -> MohrCoulomb {
     }
 }
 
-/// Block radius a of a block scene.
-fn radius(sc: &Scene) -> f64 {
-    sc.mesh.parameters["a"]
-}
-
 /// Mean x displacement of a face (from harmonic 1).
 fn face_x(run: &Run, curve: &str) -> f64 {
     face_displacement(&run.linear.model.mesh, curve, &run.linear.displacements).expect("face")[0]
-}
-
-/// Nodal weights `w_i = c_m Integral(N_i t(r) r ds)` over a physical curve
-/// (component 1: axial, 2: circumferential), as in `nonlinear.rs`.
-fn face_weights(mesh: &Mesh, curve: &str, m: u32, component: usize, t: &dyn Fn(f64) -> f64) -> Vec<f64> {
-    let mut w = vec![0.0; mesh.nodes.len()];
-    let mut fe = [0.0; 9];
-    for e in &mesh.curve(curve).expect("curve").edges {
-        let coords: Vec<[f64; 2]> = e.nodes.iter().map(|&n| mesh.nodes[n]).collect();
-        fe.fill(0.0);
-        edge_load(
-            e.kind,
-            &coords,
-            m,
-            &|r, _| {
-                let mut v = [0.0; 3];
-                v[component] = t(r);
-                v
-            },
-            &mut fe[..3 * e.nodes.len()],
-        );
-        for (i, &n) in e.nodes.iter().enumerate() {
-            w[n] += fe[3 * i + component];
-        }
-    }
-    w
-}
-
-/// Mean twist of a face `Integral(u_theta r dA) / Integral(r^2 dA)`.
-fn mean_twist(mesh: &Mesh, curve: &str, u: &Displacements) -> f64 {
-    let w = face_weights(mesh, curve, 0, 2, &|r| r);
-    let polar: f64 = w.iter().zip(&mesh.nodes).map(|(wi, p)| wi * p[0]).sum();
-    let h0 = &u.harmonics[0].symmetric;
-    w.iter()
-        .enumerate()
-        .map(|(n, wi)| wi * h0[3 * n + 2])
-        .sum::<f64>()
-        / polar
-}
-
-/// Mean tilt of a face about y, `Integral(u_z x dA) / Integral(x^2 dA)`.
-fn mean_tilt(mesh: &Mesh, curve: &str, u: &Displacements) -> f64 {
-    let w = face_weights(mesh, curve, 1, 1, &|r| r);
-    let inertia: f64 = w.iter().zip(&mesh.nodes).map(|(wi, p)| wi * p[0]).sum();
-    let h1 = &u.harmonics[1].symmetric;
-    w.iter()
-        .enumerate()
-        .map(|(n, wi)| wi * h1[3 * n + 1])
-        .sum::<f64>()
-        / inertia
-}
-
-/// The points of section `s` as `(r, index into the field)`, sorted by r.
-fn section_points(field: &JointField, s: usize) -> Vec<(f64, usize)> {
-    let n_p = field.points.len();
-    let mut pts: Vec<(f64, usize)> = (0..n_p).map(|p| (field.points[p].point.r, s * n_p + p)).collect();
-    pts.sort_by(|a, b| a.0.total_cmp(&b.0));
-    pts
-}
-
-/// First crossing of sorted `(r, f)` samples from `f <= 0` to `f > 0`.
-fn crossing(samples: &[(f64, f64)]) -> Option<f64> {
-    samples
-        .windows(2)
-        .find(|w| w[0].1 <= 0.0 && w[1].1 > 0.0)
-        .map(|w| {
-            let ((r0, f0), (r1, f1)) = (w[0], w[1]);
-            r0 + (r1 - r0) * (-f0) / (f1 - f0)
-        })
-}
-
-/// Composite Simpson rule.
-fn simpson(f: impl Fn(f64) -> f64, a: f64, b: f64, n: usize) -> f64 {
-    let h = (b - a) / n as f64;
-    let mut s = f(a) + f(b);
-    for i in 1..n {
-        s += f(a + i as f64 * h) * if i % 2 == 1 { 4.0 } else { 2.0 };
-    }
-    s * h / 3.0
-}
-
-/// Rigid disc of radius `a` on a tensionless Winkler foundation `k`, load
-/// `P` at eccentricity `e` along +x (derivation in `nonlinear.rs`):
-/// `(w0, tilt, x0)`, contact for `x > x0`.
-fn winkler_uplift(a: f64, k: f64, p: f64, e: f64) -> (f64, f64, f64) {
-    assert!(e > a / 4.0 && e < a);
-    let moments = |x0: f64| {
-        let lo = (x0 / a).asin();
-        let chord = |phi: f64| (a * phi.sin(), 2.0 * (a * phi.cos()).powi(2));
-        let f0 = simpson(|phi| (chord(phi).0 - x0) * chord(phi).1, lo, PI / 2.0, 20_000);
-        let f1 = simpson(
-            |phi| {
-                let (x, w) = chord(phi);
-                (x - x0) * x * w
-            },
-            lo,
-            PI / 2.0,
-            20_000,
-        );
-        (f0, f1)
-    };
-    let (mut lo, mut hi) = (-a, a * (1.0 - 1e-12));
-    for _ in 0..200 {
-        let mid = 0.5 * (lo + hi);
-        let (f0, f1) = moments(mid);
-        if f1 / f0 < e {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    let x0 = 0.5 * (lo + hi);
-    let t = p / (k * moments(x0).0);
-    (-t * x0, t, x0)
 }
 
 /// The uplift scene (`geo/block_uplift.json`) at eccentricity `e / a`,
