@@ -12,7 +12,11 @@
 //!    harmonics 0..=M (rayon over harmonics, all factors kept) and the
 //!    2-RHS solves of every harmonic in parallel (wall times);
 //!
-//! and prints one CSV row (`--header` prints the header first). Times are
+//! and prints one CSV row (`--header` prints the header first). `--par`
+//! sets faer's parallelism inside one factorization or solve: `binary` (the
+//! default) as the `axijoint` binary does
+//! (`linear::prefer_harmonic_parallelism`), `seq` (`Par::Seq`) or `rayon`
+//! (`Par::rayon(0)`, faer's own default). Times are
 //! wall seconds; the `_cpu_s` columns are CPU seconds of all threads
 //! (`CLOCK_PROCESS_CPUTIME_ID`), which do not grow while other processes
 //! hold the CPUs; `others_cpus` is the average number of CPUs other
@@ -23,7 +27,7 @@
 //!
 //! ```text
 //! cargo run --release -p axijoint-solver --example bench_linear -- \
-//!     --size 0.04 --harmonics 16 [--refine 2] [--par default|seq|rayon] \
+//!     --size 0.04 --harmonics 16 [--refine 2] [--par binary|seq|rayon] \
 //!     [--scene geo/pile_footing.json] [--header]
 //! cargo run --release -p axijoint-solver --example bench_linear -- --print-header
 //! ```
@@ -57,7 +61,7 @@ struct Args {
 }
 
 fn usage() -> String {
-    "usage: bench_linear --size S --harmonics M [--refine R] [--par default|seq|rayon] [--scene FILE] [--header]\n       bench_linear --print-header"
+    "usage: bench_linear --size S --harmonics M [--refine R] [--par binary|seq|rayon] [--scene FILE] [--header]\n       bench_linear --print-header"
         .into()
 }
 
@@ -70,7 +74,7 @@ fn parse_args() -> Result<Args, String> {
         size: f64::NAN,
         refine: None,
         harmonics: 4,
-        par: "default".into(),
+        par: "binary".into(),
         header: false,
     };
     let mut it = std::env::args().skip(1);
@@ -238,10 +242,11 @@ fn factor_size(pattern: &Pattern) -> (usize, bool) {
 
 fn run(args: &Args) -> Result<String, String> {
     match args.par.as_str() {
-        "default" => {}
+        // As the `axijoint` binary sets it.
+        "binary" => axijoint_solver::linear::prefer_harmonic_parallelism(),
         "seq" => faer::set_global_parallelism(faer::Par::Seq),
         "rayon" => faer::set_global_parallelism(faer::Par::rayon(0)),
-        other => return Err(format!("--par {other}: expected default, seq or rayon")),
+        other => return Err(format!("--par {other}: expected binary, seq or rayon")),
     }
     let mut scene = Scene::from_path(&args.scene).map_err(|e| e.to_string())?;
     scene.mesh.parameters.insert("size".into(), args.size);

@@ -35,8 +35,9 @@ pub enum SolveError {
 /// Sets faer's parallelism for this process to sequential inside each
 /// factorization and solve: the harmonics already run in parallel (rayon),
 /// and measured on Scene P (docs/performance.md) one harmonic factorizes 3x
-/// faster sequentially at 1e4 DOF and 1.8x at 1e5 (10 % slower at 5e5),
-/// while with all harmonics in parallel the two modes are within 15 %.
+/// faster sequentially at 1e4 DOF, 1.4x at 1e5 and 1.2x at 5e5 (medians of
+/// interleaved runs), with less CPU; with all harmonics in parallel the two
+/// modes are within 5 %.
 /// Called once by the `axijoint` binary; a library user may choose otherwise.
 pub fn prefer_harmonic_parallelism() {
     faer::set_global_parallelism(faer::Par::Seq);
