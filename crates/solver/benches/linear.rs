@@ -43,59 +43,15 @@ use nalgebra::DMatrix;
 use std::hint::black_box;
 use std::time::Instant;
 
+#[path = "support/cpu.rs"]
+mod cpu;
+use cpu::{cpu_seconds, machine_busy_seconds};
+
 fn env_or<T: std::str::FromStr>(name: &str, default: T) -> T {
     std::env::var(name)
         .ok()
         .and_then(|v| v.parse().ok())
         .unwrap_or(default)
-}
-
-#[repr(C)]
-struct Timespec {
-    tv_sec: i64,
-    tv_nsec: i64,
-}
-
-extern "C" {
-    fn clock_gettime(clock: i32, tp: *mut Timespec) -> i32;
-}
-
-/// CPU time of all threads of this process so far, in seconds
-/// (`CLOCK_PROCESS_CPUTIME_ID`): unlike the wall time, it does not grow
-/// while other processes hold the CPUs.
-fn cpu_seconds() -> f64 {
-    const CLOCK_PROCESS_CPUTIME_ID: i32 = 2;
-    let mut t = Timespec {
-        tv_sec: 0,
-        tv_nsec: 0,
-    };
-    // SAFETY: `t` is a valid `struct timespec` (x86_64 / aarch64 Linux layout).
-    let rc = unsafe { clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &mut t) };
-    if rc == 0 {
-        t.tv_sec as f64 + 1e-9 * t.tv_nsec as f64
-    } else {
-        f64::NAN
-    }
-}
-
-/// CPU time the whole machine has spent busy so far (all CPUs, all
-/// processes; `/proc/stat`, 1/100 s ticks), in seconds.
-fn machine_busy_seconds() -> f64 {
-    std::fs::read_to_string("/proc/stat")
-        .ok()
-        .and_then(|s| {
-            let f: Vec<f64> = s
-                .lines()
-                .next()?
-                .split_whitespace()
-                .skip(1)
-                .map(|v| v.parse().unwrap_or(0.0))
-                .collect();
-            // user nice system idle iowait irq softirq steal
-            let busy = f.iter().take(8).sum::<f64>() - f.get(3)? - f.get(4)?;
-            Some(busy / 100.0)
-        })
-        .unwrap_or(f64::NAN)
 }
 
 /// Average number of CPUs other processes kept busy over `seconds` of wall
@@ -251,26 +207,6 @@ fn ratio(cases: &[Case<'_>], a: &str, b: &str) -> String {
     )
 }
 
-/// The equation-space pattern `Model::new` builds.
-fn model_pattern(model: &Model) -> Pattern {
-    let joint_nodes: Vec<Vec<usize>> = model
-        .mesh
-        .joints
-        .iter()
-        .flat_map(|j| j.elements.iter())
-        .map(|e| e.bottom.iter().chain(&e.top).copied().collect())
-        .collect();
-    Pattern::new(
-        &model.dofs,
-        model
-            .mesh
-            .cells
-            .iter()
-            .map(|c| c.nodes.as_slice())
-            .chain(joint_nodes.iter().map(Vec::as_slice)),
-    )
-}
-
 /// Every element's stiffness of harmonic `m`, handed to `f(element, nodes, K_e)`
 /// (cells, then joint elements, as the library's loop).
 fn for_each_element(model: &Model, m: u32, mut f: impl FnMut(usize, &[usize], &DMatrix<f64>)) {
@@ -304,39 +240,6 @@ fn for_each_element(model: &Model, m: u32, mut f: impl FnMut(usize, &[usize], &D
             nodes.extend_from_slice(&el.top);
             f(index, &nodes, &ke);
             index += 1;
-        }
-    }
-}
-
-/// The library's scatter (a binary search per entry).
-fn scatter_search(
-    pattern: &Pattern,
-    model: &Model,
-    pinned: &[bool],
-    nodes: &[usize],
-    ke: &DMatrix<f64>,
-    values: &mut [f64],
-) {
-    let dofs = &model.dofs;
-    let nd = 3 * nodes.len();
-    for a in 0..nd {
-        let da = 3 * nodes[a / 3] + a % 3;
-        for (ea, ca) in dofs.terms(da) {
-            if pinned[ea] {
-                continue;
-            }
-            for b in 0..nd {
-                let k = ke[(a, b)];
-                if k == 0.0 {
-                    continue;
-                }
-                let db = 3 * nodes[b / 3] + b % 3;
-                for (eb, cb) in dofs.terms(db) {
-                    if ea <= eb && !pinned[eb] {
-                        values[pattern.slot(ea, eb)] += ca * cb * k;
-                    }
-                }
-            }
         }
     }
 }
@@ -423,7 +326,7 @@ fn main() {
     scene.harmonics = m_max.into();
     let (mesh, _) = mesh_scene(&scene, None).expect("gmsh meshes Scene P");
     let model = build_model(&scene, mesh).expect("model");
-    let pattern = model_pattern(&model);
+    let pattern = model.pattern().clone();
     assert_eq!(pattern.nnz(), model.nnz(), "the bench's pattern is the model's");
     let n = model.n_eq();
     println!(
@@ -515,7 +418,7 @@ fn main() {
             Case::new("assemble: elements + scatter (binary search)", Par::Seq, || {
                 let mut values = vec![0.0; pattern.nnz()];
                 for_each_element(&model, m, |_, nodes, ke| {
-                    scatter_search(&pattern, &model, &pinned, nodes, ke, &mut values)
+                    axijoint_solver::assembly::scatter(&pattern, &model.dofs, &pinned, nodes, ke, &mut values)
                 });
                 black_box(values);
             }),

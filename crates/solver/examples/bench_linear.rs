@@ -34,7 +34,6 @@
 
 use axijoint_solver::assembly::Pattern;
 use axijoint_solver::driver::{build_model, mesh_scene};
-use axijoint_solver::linear::Model;
 use axijoint_solver::scene::Scene;
 use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, SymbolicCholeskyRaw};
 use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
@@ -44,6 +43,10 @@ use rayon::prelude::*;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
+
+#[path = "../benches/support/cpu.rs"]
+mod cpu;
+use cpu::{cpu_seconds, machine_busy_seconds};
 
 const HEADER: &str = "scene,size,refine,M,par,threads,nodes,cells,dof,nnz_K,nnz_L,supernodal,\
 mesh_s,setup_s,assemble_s,numeric_s,factorize_s,solve2_s,\
@@ -139,53 +142,6 @@ fn timed<T>(budget: f64, max_reps: usize, mut f: impl FnMut() -> T) -> (f64, f64
     }
 }
 
-#[repr(C)]
-struct Timespec {
-    tv_sec: i64,
-    tv_nsec: i64,
-}
-
-extern "C" {
-    fn clock_gettime(clock: i32, tp: *mut Timespec) -> i32;
-}
-
-/// CPU time of all threads of this process so far, in seconds
-/// (`CLOCK_PROCESS_CPUTIME_ID`).
-fn cpu_seconds() -> f64 {
-    const CLOCK_PROCESS_CPUTIME_ID: i32 = 2;
-    let mut t = Timespec {
-        tv_sec: 0,
-        tv_nsec: 0,
-    };
-    // SAFETY: `t` is a valid `struct timespec` (x86_64 / aarch64 Linux layout).
-    let rc = unsafe { clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &mut t) };
-    if rc == 0 {
-        t.tv_sec as f64 + 1e-9 * t.tv_nsec as f64
-    } else {
-        f64::NAN
-    }
-}
-
-/// CPU time the whole machine has spent busy so far (all CPUs, all
-/// processes; `/proc/stat`, 1/100 s ticks), in seconds.
-fn machine_busy_seconds() -> f64 {
-    std::fs::read_to_string("/proc/stat")
-        .ok()
-        .and_then(|s| {
-            let f: Vec<f64> = s
-                .lines()
-                .next()?
-                .split_whitespace()
-                .skip(1)
-                .map(|v| v.parse().unwrap_or(0.0))
-                .collect();
-            // user nice system idle iowait irq softirq steal
-            let busy = f.iter().take(8).sum::<f64>() - f.get(3)? - f.get(4)?;
-            Some(busy / 100.0)
-        })
-        .unwrap_or(f64::NAN)
-}
-
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
     v[v.len() / 2]
@@ -200,27 +156,6 @@ fn loads(n_dofs: usize) -> (Vec<f64>, Vec<f64>) {
         .map(|i| ((i as f64 + 1.0) * 0.569_840_291).fract() - 0.5)
         .collect();
     (a, b)
-}
-
-/// The equation-space pattern `Model::new` builds (the model keeps its own
-/// private), for a numeric factorization timed without the library's probe.
-fn model_pattern(model: &Model) -> Pattern {
-    let joint_nodes: Vec<Vec<usize>> = model
-        .mesh
-        .joints
-        .iter()
-        .flat_map(|j| j.elements.iter())
-        .map(|e| e.bottom.iter().chain(&e.top).copied().collect())
-        .collect();
-    Pattern::new(
-        &model.dofs,
-        model
-            .mesh
-            .cells
-            .iter()
-            .map(|c| c.nodes.as_slice())
-            .chain(joint_nodes.iter().map(Vec::as_slice)),
-    )
 }
 
 fn pattern_ref(p: &Pattern) -> SymbolicSparseColMatRef<'_, usize> {
@@ -264,7 +199,7 @@ fn run(args: &Args) -> Result<String, String> {
     let t = Instant::now();
     let model = build_model(&scene, mesh).map_err(|e| e.to_string())?;
     let setup_s = t.elapsed().as_secs_f64();
-    let pattern = model_pattern(&model);
+    let pattern = model.pattern().clone();
     if pattern.nnz() != model.nnz() {
         return Err("the driver's pattern differs from the model's".into());
     }

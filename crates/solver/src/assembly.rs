@@ -165,7 +165,7 @@ pub(crate) fn for_each_element(
 
 /// Adds an element matrix into the value array (upper triangle), through the
 /// DOF terms; contributions to `pinned` equations are skipped.
-pub(crate) fn scatter(
+pub fn scatter(
     pattern: &Pattern,
     dofs: &DofMap,
     pinned: &[bool],

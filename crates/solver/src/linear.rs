@@ -126,6 +126,11 @@ impl Model {
         self.dofs.n_eq
     }
 
+    /// The sparsity pattern (upper triangle) shared by every harmonic.
+    pub fn pattern(&self) -> &Pattern {
+        &self.pattern
+    }
+
     /// Stored entries of the upper triangle.
     pub fn nnz(&self) -> usize {
         self.pattern.nnz()
