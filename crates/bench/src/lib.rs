@@ -1,0 +1,4 @@
+//! Accuracy-against-speed study of axijoint (scripts/bench-accuracy).
+
+pub mod measure;
+pub mod profile;
