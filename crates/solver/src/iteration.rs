@@ -194,6 +194,10 @@ impl IterationError {
     }
 }
 
+/// Joint-node values per harmonic, `[symmetric, antisymmetric]`, each
+/// `3 * joint nodes` (the node order of [`Model::joint_nodes`]).
+type JointAmplitudes = Vec<[Vec<f64>; 2]>;
+
 /// The fixed data of an iteration: points, joint nodes, basis tables.
 struct Setup<'a> {
     model: &'a Model,
@@ -208,6 +212,10 @@ struct Setup<'a> {
     /// `phi[(s * n_h + h) * 2 + family] = (phi_rz, phi_theta)`.
     phi: Vec<(f64, f64)>,
     n_h: usize,
+    /// The joint-node amplitudes of the elastic solution `K^-1 F`.
+    u0: JointAmplitudes,
+    /// Whether harmonic h has an antisymmetric family to solve.
+    both: Vec<bool>,
 }
 
 /// One evaluation of `Psi`: the joint-node displacements at the sections
@@ -362,9 +370,7 @@ impl<'a> Setup<'a> {
                 }
             }
         }
-        let mut joint_nodes: Vec<usize> = points.iter().flat_map(|p| p.nodes.iter().copied()).collect();
-        joint_nodes.sort_unstable();
-        joint_nodes.dedup();
+        let joint_nodes = model.joint_nodes().to_vec();
         let mut where_ = vec![usize::MAX; n];
         for (j, &k) in joint_nodes.iter().enumerate() {
             where_[k] = j;
@@ -381,6 +387,30 @@ impl<'a> Setup<'a> {
                 phi.push(sections.phi(h.m, Family::Antisymmetric, t));
             }
         }
+        // The elastic solution at the joint nodes (one full solve).
+        let both: Vec<bool> = loads.iter().map(|h| h.m > 0 && !sections.half).collect();
+        let u0 = loads
+            .par_iter()
+            .zip(&factor_of)
+            .zip(&both)
+            .map(|((f, factor), &both)| {
+                let u = if both {
+                    model.solve(factor, &[&f.symmetric, &f.antisymmetric])
+                } else {
+                    model.solve(factor, &[&f.symmetric])
+                };
+                let pick = |k: usize| -> Vec<f64> {
+                    let mut out = vec![0.0; 3 * joint_nodes.len()];
+                    if let Some(u) = u.get(k) {
+                        for (j, &node) in joint_nodes.iter().enumerate() {
+                            out[3 * j..3 * j + 3].copy_from_slice(&u[3 * node..3 * node + 3]);
+                        }
+                    }
+                    out
+                };
+                [pick(0), pick(1)]
+            })
+            .collect();
         Ok(Setup {
             model,
             laws,
@@ -392,6 +422,8 @@ impl<'a> Setup<'a> {
             local,
             phi,
             n_h,
+            u0,
+            both,
         })
     }
 
@@ -410,10 +442,10 @@ impl<'a> Setup<'a> {
         self.sections.len() * self.points.len()
     }
 
-    /// Zero harmonic loads (the analysis buffer).
-    fn zero_loads(&self) -> Vec<HarmonicLoads> {
-        let n = self.model.mesh.nodes.len();
-        self.loads.iter().map(|h| HarmonicLoads::zeros(h.m, n)).collect()
+    /// Zero joint-node loads per harmonic (the analysis buffer).
+    fn zero_loads(&self) -> JointAmplitudes {
+        let n = 3 * self.joint_nodes.len();
+        self.loads.iter().map(|_| [vec![0.0; n], vec![0.0; n]]).collect()
     }
 
     /// Evaluation buffers (no point broken yet).
@@ -434,28 +466,25 @@ impl<'a> Setup<'a> {
     }
 
     /// Synthesizes the joint-node displacements at section `s`.
-    fn synthesize(&self, u: &Displacements, s: usize, out: &mut [f64]) {
+    fn synthesize(&self, u: &JointAmplitudes, s: usize, out: &mut [f64]) {
         out.fill(0.0);
-        for (h, hd) in u.harmonics.iter().enumerate() {
-            for (family, amp) in [
-                (Family::Symmetric, &hd.symmetric),
-                (Family::Antisymmetric, &hd.antisymmetric),
-            ] {
+        for (h, hd) in u.iter().enumerate() {
+            for (family, amp) in [(Family::Symmetric, &hd[0]), (Family::Antisymmetric, &hd[1])] {
                 let (a, b) = self.phi(s, h, family);
                 if a == 0.0 && b == 0.0 {
                     continue;
                 }
-                for (j, &n) in self.joint_nodes.iter().enumerate() {
-                    out[3 * j] += a * amp[3 * n];
-                    out[3 * j + 1] += a * amp[3 * n + 1];
-                    out[3 * j + 2] += b * amp[3 * n + 2];
+                for (o, v) in out.chunks_exact_mut(3).zip(amp.chunks_exact(3)) {
+                    o[0] += a * v[0];
+                    o[1] += a * v[1];
+                    o[2] += b * v[2];
                 }
             }
         }
     }
 
     /// Synthesizes the joint-node displacements at every section.
-    fn synthesize_all(&self, u: &Displacements, u_s: &mut [f64]) {
+    fn synthesize_all(&self, u: &JointAmplitudes, u_s: &mut [f64]) {
         u_s.par_chunks_mut(self.per_section())
             .enumerate()
             .for_each(|(s, out)| self.synthesize(u, s, out));
@@ -526,29 +555,65 @@ impl<'a> Setup<'a> {
             });
     }
 
-    /// One back-substitution sweep: the displacements `K^-1 (F + A x)`
-    /// (`with_loads`) or `K^-1 A x`, every harmonic with its factor.
-    fn solve(&self, x: &[f64], with_loads: bool, released: &mut [HarmonicLoads]) -> Displacements {
-        let n = self.model.mesh.nodes.len();
-        let half = self.sections.half;
+    /// One sweep: the joint-node displacements `K^-1 (F + A x)`
+    /// (`with_loads`) or `K^-1 A x`, every harmonic with its factor. The
+    /// forces `A x` sit on the joint nodes only: each solve reads only the
+    /// joint block of the factor ([`Model::solve_joint`]).
+    fn solve(&self, x: &[f64], with_loads: bool, released: &mut JointAmplitudes) -> JointAmplitudes {
         self.analyse(x, released);
+        released
+            .par_iter()
+            .zip(&self.factor_of)
+            .enumerate()
+            .map(|(h, (g, factor))| {
+                let mut u = self.model.solve_joint(factor, &[&g[0], &g[1]]);
+                if !self.both[h] {
+                    u[1].fill(0.0);
+                }
+                if with_loads {
+                    for (uk, u0) in u.iter_mut().zip(&self.u0[h]) {
+                        for (a, b) in uk.iter_mut().zip(u0) {
+                            *a += b;
+                        }
+                    }
+                }
+                u
+            })
+            .collect()
+    }
+
+    /// The displacements of every node for released section forces `x`:
+    /// one full solve of `F + A x` per harmonic.
+    fn full_displacements(&self, x: &[f64]) -> Displacements {
+        let n = self.model.mesh.nodes.len();
+        let n_j = self.joint_nodes.len();
         let harmonics = self
             .loads
             .par_iter()
-            .zip(&*released)
             .zip(&self.factor_of)
-            .map(|((f, gm), factor)| {
-                let add = |a: &[f64], b: &[f64]| -> Vec<f64> {
-                    if with_loads {
-                        a.iter().zip(b).map(|(x, y)| x + y).collect()
-                    } else {
-                        b.to_vec()
+            .enumerate()
+            .map(|(h, (f, factor))| {
+                let mut loads = [f.symmetric.clone(), f.antisymmetric.clone()];
+                for s in 0..self.sections.len() {
+                    let w = self.sections.weight[s];
+                    let xs = &x[s * 3 * n_j..(s + 1) * 3 * n_j];
+                    for (family, vec) in [Family::Symmetric, Family::Antisymmetric]
+                        .into_iter()
+                        .zip(&mut loads)
+                    {
+                        let (a, b) = self.phi(s, h, family);
+                        if a == 0.0 && b == 0.0 {
+                            continue;
+                        }
+                        for (j, &k) in self.joint_nodes.iter().enumerate() {
+                            vec[3 * k] += w * a * xs[3 * j];
+                            vec[3 * k + 1] += w * a * xs[3 * j + 1];
+                            vec[3 * k + 2] += w * b * xs[3 * j + 2];
+                        }
                     }
-                };
-                let sym = add(&f.symmetric, &gm.symmetric);
-                if f.m > 0 && !half {
-                    let anti = add(&f.antisymmetric, &gm.antisymmetric);
-                    let mut u = self.model.solve(factor, &[&sym, &anti]);
+                }
+                if self.both[h] {
+                    let mut u = self.model.solve(factor, &[&loads[0], &loads[1]]);
                     let antisymmetric = u.pop().unwrap_or_default();
                     let symmetric = u.pop().unwrap_or_default();
                     HarmonicDisplacement {
@@ -557,7 +622,7 @@ impl<'a> Setup<'a> {
                         antisymmetric,
                     }
                 } else {
-                    let symmetric = self.model.solve(factor, &[&sym]).pop().unwrap_or_default();
+                    let symmetric = self.model.solve(factor, &[&loads[0]]).pop().unwrap_or_default();
                     HarmonicDisplacement {
                         m: f.m,
                         symmetric,
@@ -571,7 +636,7 @@ impl<'a> Setup<'a> {
 
     /// `Psi(x)` (one sweep): solve for `F + A x`, synthesize, release. The
     /// break memory `ev.broken` is carried forward. Returns the displacements.
-    fn evaluate(&self, x: &[f64], released: &mut [HarmonicLoads], ev: &mut Eval) -> Displacements {
+    fn evaluate(&self, x: &[f64], released: &mut JointAmplitudes, ev: &mut Eval) -> JointAmplitudes {
         let u = self.solve(x, true, released);
         self.synthesize_all(&u, &mut ev.u_s);
         self.release_all(ev);
@@ -580,7 +645,7 @@ impl<'a> Setup<'a> {
 
     /// `W v = S K^-1 A v` (one sweep): the section displacements of the
     /// joint nodes under the section forces `v` alone.
-    fn apply_w(&self, v: &[f64], released: &mut [HarmonicLoads], out: &mut [f64]) {
+    fn apply_w(&self, v: &[f64], released: &mut JointAmplitudes, out: &mut [f64]) {
         let u = self.solve(v, false, released);
         self.synthesize_all(&u, out);
     }
@@ -659,26 +724,28 @@ impl<'a> Setup<'a> {
 
     /// Analyses section forces `x` into harmonic loads (the transpose of
     /// [`Setup::synthesize`] with the section weights).
-    fn analyse(&self, x: &[f64], released: &mut [HarmonicLoads]) {
+    fn analyse(&self, x: &[f64], released: &mut JointAmplitudes) {
         let n_j = self.joint_nodes.len();
         released.par_iter_mut().enumerate().for_each(|(h, out)| {
-            out.symmetric.fill(0.0);
-            out.antisymmetric.fill(0.0);
             for s in 0..self.sections.len() {
                 let w = self.sections.weight[s];
                 let xs = &x[s * 3 * n_j..(s + 1) * 3 * n_j];
-                for (family, vec) in [
-                    (Family::Symmetric, &mut out.symmetric),
-                    (Family::Antisymmetric, &mut out.antisymmetric),
-                ] {
+                for (k, (family, vec)) in [Family::Symmetric, Family::Antisymmetric]
+                    .into_iter()
+                    .zip(out.iter_mut())
+                    .enumerate()
+                {
+                    if s == 0 {
+                        vec.fill(0.0);
+                    }
                     let (a, b) = self.phi(s, h, family);
-                    if a == 0.0 && b == 0.0 {
+                    if (a == 0.0 && b == 0.0) || (k == 1 && !self.both[h]) {
                         continue;
                     }
-                    for (j, &k) in self.joint_nodes.iter().enumerate() {
-                        vec[3 * k] += w * a * xs[3 * j];
-                        vec[3 * k + 1] += w * a * xs[3 * j + 1];
-                        vec[3 * k + 2] += w * b * xs[3 * j + 2];
+                    for (v, xj) in vec.chunks_exact_mut(3).zip(xs.chunks_exact(3)) {
+                        v[0] += w * a * xj[0];
+                        v[1] += w * a * xj[1];
+                        v[2] += w * b * xj[2];
                     }
                 }
             }
@@ -706,11 +773,12 @@ impl<'a> Setup<'a> {
         }
     }
 
-    /// The converged outcome at an evaluation with displacements `u`.
-    fn finish(&self, u: Displacements, ev: Eval, history: Vec<IterationRecord>) -> Outcome {
+    /// The converged outcome at released forces `x` and their evaluation
+    /// `ev` (one full solve for the displacements of every node).
+    fn finish(&self, x: &[f64], ev: Eval, history: Vec<IterationRecord>) -> Outcome {
         Outcome {
             released_spectrum: self.spectrum(&ev.g),
-            displacements: u,
+            displacements: self.full_displacements(x),
             history,
             field: JointField {
                 sections: self.sections.clone(),
@@ -924,11 +992,7 @@ fn fixed_point(
         let record = setup.record(it, ratio, &ev, start, 1);
         progress(&record);
         history.push(record);
-        if !ratio.is_finite()
-            || u.harmonics
-                .iter()
-                .any(|h| h.symmetric.iter().any(|v| !v.is_finite()))
-        {
+        if !ratio.is_finite() || u.iter().flatten().flatten().any(|v| !v.is_finite()) {
             return Err(no_equilibrium(
                 setup,
                 &f,
@@ -943,7 +1007,7 @@ fn fixed_point(
             }
         }
         if nothing_released || (it > 1 && ratio < settings.epsilon) {
-            return Ok(setup.finish(u, ev, history));
+            return Ok(setup.finish(&x, ev, history));
         }
         if it > 1 {
             let stalled = if ratio < best * 0.999 {
@@ -1123,7 +1187,7 @@ impl Krylov {
         residual: &[f64],
         eta: f64,
         budget: u32,
-        released: &mut [HarmonicLoads],
+        released: &mut JointAmplitudes,
         delta: &mut [f64],
         w_delta: &mut [f64],
     ) -> u32 {
@@ -1228,7 +1292,9 @@ fn newton(
     let mut krylov = Krylov::new();
 
     // The elastic solve.
-    let mut u = Some(setup.evaluate(&x, &mut released, &mut acc));
+    setup.evaluate(&x, &mut released, &mut acc);
+    // Whether `acc` is a true evaluation at x (not a linearized trial).
+    let mut evaluated;
     let mut res: Vec<f64> = acc.g.iter().zip(&x).map(|(a, b)| a - b).collect();
     let mut res_trial = vec![0.0; nx];
     let psi0 = setup.section_max(&res);
@@ -1246,8 +1312,7 @@ fn newton(
         ));
     }
     if nothing_released {
-        let u = u.take().unwrap_or_default();
-        return Ok(setup.finish(u, acc, history));
+        return Ok(setup.finish(&x, acc, history));
     }
 
     let mut total = 1u32;
@@ -1302,14 +1367,15 @@ fn newton(
             fallbacks.pop_front();
         }
         if accepted {
-            u = None;
+            evaluated = false;
         } else {
             // (3) The plain step, evaluated for real; its pair is kept.
             for i in 0..nx {
                 x_trial[i] = x[i] + res[i];
             }
             trial.broken.copy_from_slice(&acc.broken);
-            u = Some(setup.evaluate(&x_trial, &mut released, &mut trial));
+            setup.evaluate(&x_trial, &mut released, &mut trial);
+            evaluated = true;
             sweeps += 1;
             let mut w = krylov.buffer(nx);
             for ((wi, a), b) in w.iter_mut().zip(&trial.u_s).zip(&acc.u_s) {
@@ -1328,9 +1394,10 @@ fn newton(
         r_prev = r_norm;
         r_norm = norm(&res);
         let mut ratio = setup.section_max(&res) / psi0;
-        if ratio < settings.epsilon && u.is_none() {
-            // Confirm with a true evaluation (and get the amplitudes).
-            u = Some(setup.evaluate(&x, &mut released, &mut acc));
+        if ratio < settings.epsilon && !evaluated {
+            // Confirm with a true evaluation.
+            setup.evaluate(&x, &mut released, &mut acc);
+            evaluated = true;
             sweeps += 1;
             for i in 0..nx {
                 res[i] = acc.g[i] - x[i];
@@ -1354,10 +1421,8 @@ fn newton(
         if let Some(reason) = unresolved(setup, &x, psi0, settings.epsilon) {
             return Err(no_equilibrium(setup, &res, &reason, record, history));
         }
-        if ratio < settings.epsilon {
-            if let Some(u) = u {
-                return Ok(setup.finish(u, acc, history));
-            }
+        if ratio < settings.epsilon && evaluated {
+            return Ok(setup.finish(&x, acc, history));
         }
 
         // No equilibrium.

@@ -27,6 +27,7 @@ pub mod dofs;
 pub mod driver;
 pub mod elements;
 pub mod error;
+mod factor;
 pub mod fourier;
 pub mod iteration;
 pub mod joint_law;

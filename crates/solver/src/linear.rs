@@ -3,13 +3,18 @@
 
 use crate::assembly::{for_each_element, scatter, ElementScratch, JointModel, Pattern};
 use crate::dofs::DofMap;
+use crate::factor::{solve_interleaved, solve_trailing, solve_with_faer};
 use crate::material::Elastic;
 use axijoint_mesh::Mesh;
-use faer::linalg::solvers::Solve;
-use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::cholesky::llt::factor::{LltError, LltRegularization};
+use faer::perm::PermRef;
+use faer::sparse::linalg::amd;
+use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, SymbolicCholesky, SymmetricOrdering};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Mat, Side};
 use rayon::prelude::*;
+use std::sync::Arc;
 
 /// Errors of the linear solve.
 #[derive(Debug, thiserror::Error)]
@@ -47,7 +52,9 @@ pub fn prefer_harmonic_parallelism() {
 pub struct HarmonicFactor {
     /// Harmonic m.
     pub m: u32,
-    llt: Llt<usize, f64>,
+    symbolic: Arc<SymbolicCholesky<usize>>,
+    /// Values of the lower factor L in faer's storage for `symbolic`.
+    values: Vec<f64>,
     pinned: Vec<bool>,
 }
 
@@ -64,7 +71,13 @@ pub struct Model {
     /// Support flags per node DOF.
     pub fixed: Vec<bool>,
     pattern: Pattern,
-    symbolic: SymbolicLlt<usize>,
+    symbolic: Arc<SymbolicCholesky<usize>>,
+    /// Nodes of the joint elements (sorted).
+    joint_nodes: Vec<usize>,
+    /// Equations of the joint nodes, ordered last in the factorization.
+    trailing: Vec<usize>,
+    /// Position of each equation in `trailing` (`usize::MAX` if absent).
+    trail_pos: Vec<usize>,
 }
 
 impl Model {
@@ -108,8 +121,22 @@ impl Model {
                 .map(|c| c.nodes.as_slice())
                 .chain(joint_nodes.iter().map(Vec::as_slice)),
         );
-        let symbolic = SymbolicLlt::try_new(pattern_ref(&pattern), Side::Upper)
-            .map_err(|e| SolveError::Factorization(format!("{e:?}")))?;
+        let mut joint_node_list: Vec<usize> = joint_nodes.iter().flatten().copied().collect();
+        joint_node_list.sort_unstable();
+        joint_node_list.dedup();
+        let mut trail_pos = vec![usize::MAX; dofs.n_eq];
+        let mut trailing = Vec::new();
+        for &k in &joint_node_list {
+            for dof in 3 * k..3 * k + 3 {
+                for (e, _) in dofs.terms(dof) {
+                    if trail_pos[e] == usize::MAX {
+                        trail_pos[e] = trailing.len();
+                        trailing.push(e);
+                    }
+                }
+            }
+        }
+        let symbolic = symbolic_with_last(&pattern, &trailing, &trail_pos)?;
         Ok(Model {
             mesh,
             materials,
@@ -117,8 +144,61 @@ impl Model {
             dofs,
             fixed,
             pattern,
-            symbolic,
+            symbolic: Arc::new(symbolic),
+            joint_nodes: joint_node_list,
+            trailing,
+            trail_pos,
         })
+    }
+
+    /// Stored values of one harmonic's Cholesky factor L.
+    pub fn factor_len(&self) -> usize {
+        self.symbolic.len_val()
+    }
+
+    /// Nodes of the joint elements, sorted: the node order of
+    /// [`Model::solve_joint`].
+    pub fn joint_nodes(&self) -> &[usize] {
+        &self.joint_nodes
+    }
+
+    /// Solves `K_m u = f` for forces `f` on the joint nodes only (each
+    /// `3 * joint_nodes().len()`, node-DOF order of [`Model::joint_nodes`])
+    /// and returns `u` at the joint nodes. The joint equations are ordered
+    /// last in the factorization, so this reads only the trailing block of
+    /// the factor: a small fraction of a full solve.
+    pub fn solve_joint(&self, factor: &HarmonicFactor, loads: &[&[f64]; 2]) -> [Vec<f64>; 2] {
+        let nt = self.trailing.len();
+        let mut b = vec![[0.0; 2]; nt];
+        for (j, &k) in self.joint_nodes.iter().enumerate() {
+            for c in 0..3 {
+                for (e, coef) in self.dofs.terms(3 * k + c) {
+                    for (q, f) in loads.iter().enumerate() {
+                        b[self.trail_pos[e]][q] += coef * f[3 * j + c];
+                    }
+                }
+            }
+        }
+        for (bi, &e) in b.iter_mut().zip(&self.trailing) {
+            if factor.pinned[e] {
+                *bi = [0.0; 2];
+            }
+        }
+        solve_trailing(&factor.symbolic, &factor.values, &mut b);
+        let mut out = [
+            vec![0.0; 3 * self.joint_nodes.len()],
+            vec![0.0; 3 * self.joint_nodes.len()],
+        ];
+        for (j, &k) in self.joint_nodes.iter().enumerate() {
+            for c in 0..3 {
+                for (e, coef) in self.dofs.terms(3 * k + c) {
+                    for (q, o) in out.iter_mut().enumerate() {
+                        o[3 * j + c] += coef * b[self.trail_pos[e]][q];
+                    }
+                }
+            }
+        }
+        out
     }
 
     /// Number of unknowns per harmonic.
@@ -177,13 +257,39 @@ impl Model {
             hint: self.unsupported_hint(),
         };
         let mat = SparseColMatRef::new(pattern_ref(&self.pattern), &values);
-        let llt =
-            Llt::try_new_with_symbolic(self.symbolic.clone(), mat, Side::Upper).map_err(|e| match e {
-                faer::sparse::linalg::LltError::Numeric(_) => {
-                    singular("a non-positive pivot in the Cholesky factorization".into())
-                }
-                faer::sparse::linalg::LltError::Generic(g) => SolveError::Factorization(format!("{g:?}")),
+        let mut l_values = Vec::new();
+        l_values
+            .try_reserve_exact(self.symbolic.len_val())
+            .map_err(|_| SolveError::Factorization("out of memory for the factor".into()))?;
+        l_values.resize(self.symbolic.len_val(), 0.0);
+        let par = faer::get_global_parallelism();
+        let mut mem = MemBuffer::try_new(
+            self.symbolic
+                .factorize_numeric_llt_scratch::<f64>(par, Default::default()),
+        )
+        .map_err(|_| SolveError::Factorization("out of memory for the factorization workspace".into()))?;
+        self.symbolic
+            .factorize_numeric_llt(
+                &mut l_values,
+                mat,
+                Side::Upper,
+                LltRegularization::default(),
+                par,
+                MemStack::new(&mut mem),
+                Default::default(),
+            )
+            .map_err(|LltError::NonPositivePivot { index }| {
+                singular(format!(
+                    "a non-positive pivot in the Cholesky factorization (step {index})"
+                ))
             })?;
+        drop(mem);
+        let factor = HarmonicFactor {
+            m,
+            symbolic: self.symbolic.clone(),
+            values: l_values,
+            pinned,
+        };
         // Probe: x0 pseudo-random, b = K x0, solve, compare.
         let n = self.pattern.n;
         let x0: Vec<f64> = (0..n)
@@ -191,18 +297,18 @@ impl Model {
             .collect();
         let mut b = vec![0.0; n];
         self.pattern.sym_matvec(&values, &x0, &mut b);
-        let mut rhs = Mat::from_fn(n, 1, |i, _| b[i]);
-        llt.solve_in_place(rhs.as_mut());
+        let mut x: Vec<[f64; 1]> = b.iter().map(|&v| [v]).collect();
+        solve_interleaved(&factor.symbolic, &factor.values, &mut x);
         let (mut num, mut den) = (0.0f64, 0.0f64);
-        for (i, x) in x0.iter().enumerate() {
-            num = num.max((rhs[(i, 0)] - x).abs());
-            den = den.max(x.abs());
+        for (xi, x0i) in x.iter().zip(&x0) {
+            num = num.max((xi[0] - x0i).abs());
+            den = den.max(x0i.abs());
         }
         let err = num / den;
         if !err.is_finite() || err > 1e-6 {
             return Err(singular(format!("probe solve error {err:.1e}")));
         }
-        Ok(HarmonicFactor { m, llt, pinned })
+        Ok(factor)
     }
 
     /// Factorizes each harmonic in `ms`, in parallel.
@@ -215,19 +321,40 @@ impl Model {
     pub fn solve(&self, factor: &HarmonicFactor, loads: &[&[f64]]) -> Vec<Vec<f64>> {
         let n = self.pattern.n;
         let mut b = vec![0.0; n];
-        let mut rhs = Mat::<f64>::zeros(n, loads.len());
-        for (k, f) in loads.iter().enumerate() {
-            self.dofs.restrict(f, &factor.pinned, &mut b);
-            for (i, v) in b.iter().enumerate() {
-                rhs[(i, k)] = *v;
+        let restrict = |k: usize, b: &mut Vec<f64>| self.dofs.restrict(loads[k], &factor.pinned, b);
+        let mut xs: Vec<Vec<f64>> = match loads.len() {
+            1 => {
+                restrict(0, &mut b);
+                let mut x: Vec<[f64; 1]> = b.iter().map(|&v| [v]).collect();
+                solve_interleaved(&factor.symbolic, &factor.values, &mut x);
+                vec![x.iter().map(|v| v[0]).collect()]
             }
-        }
-        factor.llt.solve_in_place(rhs.as_mut());
-        (0..loads.len())
-            .map(|k| {
-                let x: Vec<f64> = (0..n).map(|i| rhs[(i, k)]).collect();
+            2 => {
+                restrict(0, &mut b);
+                let mut x: Vec<[f64; 2]> = b.iter().map(|&v| [v, 0.0]).collect();
+                restrict(1, &mut b);
+                for (xi, &v) in x.iter_mut().zip(&b) {
+                    xi[1] = v;
+                }
+                solve_interleaved(&factor.symbolic, &factor.values, &mut x);
+                vec![x.iter().map(|v| v[0]).collect(), x.iter().map(|v| v[1]).collect()]
+            }
+            k => {
+                let mut rhs = Mat::<f64>::zeros(n, k);
+                for j in 0..k {
+                    restrict(j, &mut b);
+                    for (i, v) in b.iter().enumerate() {
+                        rhs[(i, j)] = *v;
+                    }
+                }
+                solve_with_faer(&factor.symbolic, &factor.values, rhs.as_mut());
+                (0..k).map(|j| (0..n).map(|i| rhs[(i, j)]).collect()).collect()
+            }
+        };
+        xs.iter_mut()
+            .map(|x| {
                 let mut u = vec![0.0; 3 * self.dofs.n_nodes];
-                self.dofs.expand(&x, &mut u);
+                self.dofs.expand(x, &mut u);
                 u
             })
             .collect()
@@ -307,6 +434,75 @@ impl Model {
             format!("no support reaches bodies {}", free.join(", "))
         }
     }
+}
+
+/// Symbolic Cholesky of `pattern` with the equations `last` eliminated
+/// last (in that order) and the others in approximate-minimum-degree order
+/// of the graph without them. `pos[e]` is the index of `e` in `last`.
+fn symbolic_with_last(
+    pattern: &Pattern,
+    last: &[usize],
+    pos: &[usize],
+) -> Result<SymbolicCholesky<usize>, SolveError> {
+    let failed = |e: faer::sparse::FaerError| SolveError::Factorization(format!("{e:?}"));
+    let n = pattern.n;
+    if last.is_empty() {
+        return factorize_symbolic_cholesky(
+            pattern_ref(pattern),
+            Side::Upper,
+            Default::default(),
+            Default::default(),
+        )
+        .map_err(failed);
+    }
+    // The interior graph: equations not in `last`, renumbered.
+    let interior: Vec<usize> = (0..n).filter(|&e| pos[e] == usize::MAX).collect();
+    let mut new_of = vec![usize::MAX; n];
+    for (i, &e) in interior.iter().enumerate() {
+        new_of[e] = i;
+    }
+    let mut col_ptr = Vec::with_capacity(interior.len() + 1);
+    let mut row_idx = Vec::new();
+    col_ptr.push(0);
+    for &e in &interior {
+        for &r in &pattern.row_idx[pattern.col_ptr[e]..pattern.col_ptr[e + 1]] {
+            if new_of[r] != usize::MAX {
+                row_idx.push(new_of[r]);
+            }
+        }
+        col_ptr.push(row_idx.len());
+    }
+    let ni = interior.len();
+    let mut fwd = vec![0usize; n];
+    let mut inv = vec![0usize; n];
+    if ni > 0 {
+        let a = SymbolicSparseColMatRef::new_checked(ni, ni, &col_ptr, None, &row_idx);
+        let mut mem = MemBuffer::try_new(amd::order_maybe_unsorted_scratch::<usize>(ni, row_idx.len()))
+            .map_err(|_| failed(faer::sparse::FaerError::OutOfMemory))?;
+        amd::order_maybe_unsorted(
+            &mut fwd[..ni],
+            &mut inv[..ni],
+            a,
+            amd::Control::default(),
+            MemStack::new(&mut mem),
+        )
+        .map_err(failed)?;
+    }
+    for i in 0..ni {
+        fwd[i] = interior[fwd[i]];
+    }
+    fwd[ni..].copy_from_slice(last);
+    for (new, &old) in fwd.iter().enumerate() {
+        inv[old] = new;
+    }
+    let perm = PermRef::new_checked(&fwd, &inv, n);
+    factorize_symbolic_cholesky(
+        pattern_ref(pattern),
+        Side::Upper,
+        SymmetricOrdering::Custom(perm),
+        Default::default(),
+    )
+    .map_err(failed)
 }
 
 fn pattern_ref(p: &Pattern) -> SymbolicSparseColMatRef<'_, usize> {
