@@ -135,9 +135,26 @@ pub(crate) fn for_each_element(
     joints: &[JointModel],
     m: u32,
     s: &mut ElementScratch,
+    f: impl FnMut(&[usize], &DMatrix<f64>),
+) {
+    for_each_element_where(mesh, materials, joints, m, s, |_| true, f);
+}
+
+/// [`for_each_element`] over the elements whose node list passes `keep`
+/// (the others' matrices are not computed).
+pub(crate) fn for_each_element_where(
+    mesh: &Mesh,
+    materials: &[Elastic],
+    joints: &[JointModel],
+    m: u32,
+    s: &mut ElementScratch,
+    keep: impl Fn(&[usize]) -> bool,
     mut f: impl FnMut(&[usize], &DMatrix<f64>),
 ) {
     for cell in &mesh.cells {
+        if !keep(&cell.nodes) {
+            continue;
+        }
         s.coords.clear();
         s.coords.extend(cell.nodes.iter().map(|&n| mesh.nodes[n]));
         solid_stiffness(
@@ -152,12 +169,15 @@ pub(crate) fn for_each_element(
     }
     for (joint, props) in mesh.joints.iter().zip(joints) {
         for el in &joint.elements {
-            s.coords.clear();
-            s.coords.extend(el.bottom.iter().map(|&n| mesh.nodes[n]));
-            joint_stiffness(el.kind, &s.coords, &props.springs, m, props.rule, &mut s.ke);
             s.nodes.clear();
             s.nodes.extend_from_slice(&el.bottom);
             s.nodes.extend_from_slice(&el.top);
+            if !keep(&s.nodes) {
+                continue;
+            }
+            s.coords.clear();
+            s.coords.extend(el.bottom.iter().map(|&n| mesh.nodes[n]));
+            joint_stiffness(el.kind, &s.coords, &props.springs, m, props.rule, &mut s.ke);
             f(&s.nodes, &s.ke);
         }
     }

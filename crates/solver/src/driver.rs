@@ -163,6 +163,17 @@ pub fn solve_linear(
     keep_msh: Option<&Path>,
     all_factors: bool,
 ) -> Result<LinearRun, SolverError> {
+    linear_run(scene, keep_msh, all_factors, true)
+}
+
+/// [`solve_linear`]; the reactions are left empty unless `with_reactions`
+/// (a nonlinear run computes them once, at its solution).
+fn linear_run(
+    scene: &Scene,
+    keep_msh: Option<&Path>,
+    all_factors: bool,
+    with_reactions: bool,
+) -> Result<LinearRun, SolverError> {
     let (mesh, _) = mesh_scene(scene, keep_msh)?;
     let m_max = scene.harmonics();
     let loads = assemble_loads(scene, &mesh, m_max)?;
@@ -203,7 +214,11 @@ pub fn solve_linear(
     let displacements = Displacements { harmonics };
     let solve = t2.elapsed().as_secs_f64();
     let t3 = Instant::now();
-    let reactions = reactions(scene, &model, &loads, &displacements);
+    let reactions = if with_reactions {
+        reactions(scene, &model, &loads, &displacements)
+    } else {
+        Vec::new()
+    };
     let applied = load_resultants(&loads, &model.mesh, 0.0);
     Ok(LinearRun {
         model,
@@ -244,7 +259,7 @@ pub fn reactions(
                 if ud.iter().all(|&v| v == 0.0) {
                     continue;
                 }
-                let ku = model.internal_forces(h.m, ud);
+                let ku = model.support_forces(h.m, ud);
                 for dof in 0..3 * n {
                     if model.dofs.is_supported(dof) {
                         o[dof] = ku[dof] - f[dof];
@@ -483,13 +498,16 @@ fn iterate(
 ) -> Result<crate::iteration::Outcome, SolverError> {
     let loads: Vec<HarmonicLoads> = linear.loads.iter().filter(|h| h.m <= m).cloned().collect();
     let laws = joint_laws(scene, &linear.model);
-    Ok(crate::iteration::stress_transfer(
+    // linear.displacements is the elastic solution here (both callers
+    // replace it only after their last iteration).
+    Ok(crate::iteration::stress_transfer_from(
         &linear.model,
         &linear.factors,
         &loads,
         &laws,
         sections,
         &iteration_settings(scene),
+        Some(&linear.displacements),
         progress,
     )?)
 }
@@ -566,8 +584,9 @@ pub fn solve_scene(
 ) -> Result<Run, SolverError> {
     use crate::scene::JointLaw;
     let nonlinear = scene.joints.values().any(|j| j.law != JointLaw::Linear);
-    let mut linear = solve_linear(scene, keep_msh, nonlinear)?;
+    let mut linear = linear_run(scene, keep_msh, nonlinear, false)?;
     if !nonlinear || linear.model.mesh.joints.is_empty() {
+        linear.reactions = reactions(scene, &linear.model, &linear.loads, &linear.displacements);
         return Ok(Run {
             linear,
             outcome: None,
@@ -632,7 +651,7 @@ pub fn solve_scene_auto(
     }
     let mut m = loaded.max(4).min(m_max.max(loaded));
     sc.harmonics = m.into();
-    let mut linear = solve_linear(&sc, keep_msh, true)?;
+    let mut linear = linear_run(&sc, keep_msh, true, false)?;
     let mut steps: Vec<AutoStep> = Vec::new();
     let mut previous: Option<Vec<f64>> = None;
     let t = Instant::now();

@@ -165,6 +165,22 @@ pub enum IterationError {
         /// The history so far.
         history: Vec<IterationRecord>,
     },
+    /// The iteration stalled on a joint much stiffer than its elements:
+    /// whether an equilibrium exists cannot be told.
+    #[error("not converged: {reason}; joint '{joint}' is much stiffer than the elements along it (k h / E = {stiffness:.1}): every method keeps the elastic joint stiffness in K_m, so a released traction comes back through the same stiff spring and the iteration crawls. This does not show that the load exceeds what the joint can carry; soften the joint to k h / E of about 1 or less, or refine the mesh along it (iteration {iteration})")]
+    StiffJoint {
+        /// The joint with the largest residual.
+        joint: String,
+        /// `k h / E` of that joint (largest spring, mean element length,
+        /// stiffer neighbouring body).
+        stiffness: f64,
+        /// What was detected.
+        reason: String,
+        /// Last iteration.
+        iteration: u32,
+        /// The history so far.
+        history: Vec<IterationRecord>,
+    },
     /// The iteration limit was reached while still converging.
     #[error("not converged in {iterations} iterations: residual ratio {ratio:.3e} > epsilon {epsilon:.1e}; it was still decreasing: raise solver.max_iterations (if it decreases ever more slowly, the load may be close to what the joints can carry)")]
     NotConverged {
@@ -186,9 +202,9 @@ impl IterationError {
     /// The history up to the stop, if any.
     pub fn history(&self) -> &[IterationRecord] {
         match self {
-            IterationError::NoEquilibrium { history, .. } | IterationError::NotConverged { history, .. } => {
-                history
-            }
+            IterationError::NoEquilibrium { history, .. }
+            | IterationError::NotConverged { history, .. }
+            | IterationError::StiffJoint { history, .. } => history,
             IterationError::Setup(_) => &[],
         }
     }
@@ -306,6 +322,7 @@ impl<'a> Setup<'a> {
         loads: &'a [HarmonicLoads],
         laws: &'a [JointLaw],
         sections: &'a Sections,
+        elastic: Option<&Displacements>,
     ) -> Result<Self, IterationError> {
         let mesh = &model.mesh;
         let n = mesh.nodes.len();
@@ -387,14 +404,21 @@ impl<'a> Setup<'a> {
                 phi.push(sections.phi(h.m, Family::Antisymmetric, t));
             }
         }
-        // The elastic solution at the joint nodes (one full solve).
+        // The elastic solution at the joint nodes: given, or one full solve.
         let both: Vec<bool> = loads.iter().map(|h| h.m > 0 && !sections.half).collect();
         let u0 = loads
             .par_iter()
             .zip(&factor_of)
             .zip(&both)
             .map(|((f, factor), &both)| {
-                let u = if both {
+                let given = elastic.and_then(|e| e.harmonics.iter().find(|d| d.m == f.m));
+                let u = if let Some(d) = given {
+                    let mut u = vec![d.symmetric.clone()];
+                    if both {
+                        u.push(d.antisymmetric.clone());
+                    }
+                    u
+                } else if both {
                     model.solve(factor, &[&f.symmetric, &f.antisymmetric])
                 } else {
                     model.solve(factor, &[&f.symmetric])
@@ -816,7 +840,7 @@ impl<'a> FixedPoint<'a> {
         sections: &'a Sections,
     ) -> Result<Self, IterationError> {
         Ok(FixedPoint {
-            setup: Setup::new(model, factors, loads, laws, sections)?,
+            setup: Setup::new(model, factors, loads, laws, sections, None)?,
         })
     }
 
@@ -944,9 +968,25 @@ pub fn stress_transfer(
     laws: &[JointLaw],
     sections: &Sections,
     settings: &IterationSettings,
+    progress: impl FnMut(&IterationRecord),
+) -> Result<Outcome, IterationError> {
+    stress_transfer_from(model, factors, loads, laws, sections, settings, None, progress)
+}
+
+/// [`stress_transfer`] given the elastic solution `K^-1 F` of (some of) the
+/// harmonics of `loads`, which then cost no solve.
+#[allow(clippy::too_many_arguments)]
+pub fn stress_transfer_from(
+    model: &Model,
+    factors: &[HarmonicFactor],
+    loads: &[HarmonicLoads],
+    laws: &[JointLaw],
+    sections: &Sections,
+    settings: &IterationSettings,
+    elastic: Option<&Displacements>,
     mut progress: impl FnMut(&IterationRecord),
 ) -> Result<Outcome, IterationError> {
-    let setup = Setup::new(model, factors, loads, laws, sections)?;
+    let setup = Setup::new(model, factors, loads, laws, sections, elastic)?;
     match settings.method {
         Method::Plain => fixed_point(&setup, 0, settings, &mut progress),
         Method::Anderson { depth } => fixed_point(&setup, depth, settings, &mut progress),
@@ -970,6 +1010,7 @@ fn fixed_point(
     let mut released = setup.zero_loads();
     let mut history = Vec::new();
     let mut mixer = Anderson::new(depth);
+    let mut last_f = Vec::new();
     let (mut psi0, mut psi_prev, mut best, mut best_at) = (0.0f64, f64::INFINITY, f64::INFINITY, 0u32);
     // Relaxation of the update, halved on each stall; history start of the
     // current relaxation level (for the limit estimate).
@@ -1061,14 +1102,9 @@ fn fixed_point(
         }
         psi_prev = psi;
         x = mixer.next(&x, &f, damping);
+        last_f = f;
     }
-    let last = history.last().map_or(f64::NAN, |r| r.ratio);
-    Err(IterationError::NotConverged {
-        iterations: settings.max_iterations,
-        ratio: last,
-        epsilon: settings.epsilon,
-        history,
-    })
+    Err(not_converged(setup, &last_f, settings, history))
 }
 
 fn dot(a: &[f64], b: &[f64]) -> f64 {
@@ -1447,13 +1483,64 @@ fn newton(
             break;
         }
     }
-    let last = history.last().map_or(f64::NAN, |r| r.ratio);
-    Err(IterationError::NotConverged {
+    Err(not_converged(setup, &res, settings, history))
+}
+
+/// The end at the iteration limit: `NotConverged`, or `StiffJoint` when the
+/// joint with the largest residual `f` is much stiffer than its elements.
+fn not_converged(
+    setup: &Setup,
+    f: &[f64],
+    settings: &IterationSettings,
+    history: Vec<IterationRecord>,
+) -> IterationError {
+    let last = history.last().copied();
+    let ratio = last.map_or(f64::NAN, |r| r.ratio);
+    let worst = worst_joint(setup, f);
+    let stiffness = joint_stiffness_ratio(setup, worst);
+    if stiffness > STIFF_JOINT {
+        return IterationError::StiffJoint {
+            joint: setup
+                .model
+                .mesh
+                .joints
+                .get(worst)
+                .map_or_else(|| "?".into(), |j| j.name.clone()),
+            stiffness,
+            reason: format!(
+                "the iteration limit ({}) was reached at residual ratio {ratio:.3e} > epsilon {:.1e}",
+                settings.max_iterations, settings.epsilon
+            ),
+            iteration: last.map_or(0, |r| r.iteration),
+            history,
+        };
+    }
+    IterationError::NotConverged {
         iterations: history.len() as u32,
-        ratio: last,
+        ratio,
         epsilon: settings.epsilon,
         history,
-    })
+    }
+}
+
+/// The joint that carries most of a section-force residual `f`.
+fn worst_joint(setup: &Setup, f: &[f64]) -> usize {
+    let n_j = setup.joint_nodes.len();
+    let mut per_joint = vec![0.0f64; setup.model.mesh.joints.len()];
+    for (i, info) in setup.points.iter().enumerate() {
+        for &j in &setup.local[i] {
+            for s in 0..setup.sections.len() {
+                for c in 0..3 {
+                    per_joint[info.joint] += f.get(s * 3 * n_j + 3 * j + c).map_or(0.0, |v| v * v);
+                }
+            }
+        }
+    }
+    per_joint
+        .iter()
+        .enumerate()
+        .max_by(|a, b| a.1.total_cmp(b.1))
+        .map_or(0, |(j, _)| j)
 }
 
 /// The no-equilibrium reason when the released forces x have grown so far
@@ -1553,6 +1640,11 @@ fn joint_stiffness_ratio(setup: &Setup, j: usize) -> f64 {
 }
 
 /// The no-equilibrium error, naming the joint with the largest residual `f`.
+/// `k h / E` above which a stall is blamed on the joint's stiffness: every
+/// method converged on Scene P up to 1 and stalled at 12.5 (case 3 of
+/// crates/solver/tests/stability.rs).
+const STIFF_JOINT: f64 = 5.0;
+
 fn no_equilibrium(
     setup: &Setup,
     f: &[f64],
@@ -1561,38 +1653,27 @@ fn no_equilibrium(
     history: Vec<IterationRecord>,
 ) -> IterationError {
     let mesh = &setup.model.mesh;
-    let n_j = setup.joint_nodes.len();
-    let mut per_joint = vec![0.0f64; mesh.joints.len()];
-    for (i, info) in setup.points.iter().enumerate() {
-        for &j in &setup.local[i] {
-            for s in 0..setup.sections.len() {
-                for c in 0..3 {
-                    per_joint[info.joint] += f[s * 3 * n_j + 3 * j + c].powi(2);
-                }
-            }
-        }
-    }
-    let worst = per_joint
-        .iter()
-        .enumerate()
-        .max_by(|a, b| a.1.total_cmp(b.1))
-        .map_or(0, |(j, _)| j);
-    // A joint much stiffer than its bodies (k h / E >> 1) makes the
-    // iteration crawl, which looks like no equilibrium: say so.
+    let worst = worst_joint(setup, f);
+    let joint = mesh
+        .joints
+        .get(worst)
+        .map_or_else(|| "?".into(), |j| j.name.clone());
+    // A joint much stiffer than its bodies (k h / E >> 1) makes every
+    // method crawl (docs/stability.md, case 3), which looks like no
+    // equilibrium: not reported as one.
     let stiffness = joint_stiffness_ratio(setup, worst);
-    let reason = if stiffness > 5.0 {
-        format!(
-            "{reason} (or the joint is too stiff for the iteration: k h / E = {stiffness:.1}; it converges for k h / E up to about 1, so a softer joint or a finer mesh there may converge)"
-        )
-    } else {
-        reason.to_string()
-    };
+    if stiffness > STIFF_JOINT {
+        return IterationError::StiffJoint {
+            joint,
+            stiffness,
+            reason: reason.to_string(),
+            iteration: last.iteration,
+            history,
+        };
+    }
     IterationError::NoEquilibrium {
-        joint: mesh
-            .joints
-            .get(worst)
-            .map_or_else(|| "?".into(), |j| j.name.clone()),
-        reason,
+        joint,
+        reason: reason.to_string(),
         open: last.open,
         slip: last.slip,
         total: last.open + last.slip + last.stick,

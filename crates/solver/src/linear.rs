@@ -1,7 +1,9 @@
 //! The linear model: pattern and symbolic factorization once, one numeric
 //! Cholesky per harmonic, many right-hand sides per factor.
 
-use crate::assembly::{for_each_element, scatter, ElementScratch, JointModel, Pattern};
+use crate::assembly::{
+    for_each_element, for_each_element_where, scatter, ElementScratch, JointModel, Pattern,
+};
 use crate::dofs::DofMap;
 use crate::factor::{solve_interleaved, solve_trailing, solve_with_faer};
 use crate::material::Elastic;
@@ -378,6 +380,34 @@ impl Model {
                 for (a, row) in ke.row_iter().enumerate() {
                     let fa: f64 = row.iter().zip(&ue).map(|(k, x)| k * x).sum();
                     out[3 * nodes[a / 3] + a % 3] += fa;
+                }
+            },
+        );
+        out
+    }
+
+    /// [`Model::internal_forces`] at the supported DOFs only (zero
+    /// elsewhere): only the elements with a supported node are computed.
+    pub fn support_forces(&self, m: u32, u: &[f64]) -> Vec<f64> {
+        let mut out = vec![0.0; u.len()];
+        let mut scratch = ElementScratch::new();
+        let mut ue = Vec::with_capacity(54);
+        let supported = |n: usize| (3 * n..3 * n + 3).any(|d| self.dofs.is_supported(d));
+        for_each_element_where(
+            &self.mesh,
+            &self.materials,
+            &self.joints,
+            m,
+            &mut scratch,
+            |nodes| nodes.iter().any(|&n| supported(n)),
+            |nodes, ke| {
+                ue.clear();
+                ue.extend(nodes.iter().flat_map(|&n| u[3 * n..3 * n + 3].iter().copied()));
+                for (a, row) in ke.row_iter().enumerate() {
+                    let dof = 3 * nodes[a / 3] + a % 3;
+                    if self.dofs.is_supported(dof) {
+                        out[dof] += row.iter().zip(&ue).map(|(k, x)| k * x).sum::<f64>();
+                    }
                 }
             },
         );
