@@ -89,7 +89,10 @@ fn every_shipped_scene_parses_and_checks_against_its_mesh() {
         }
     }
     assert!(found >= 4, "found {found} scenes");
-    assert_eq!(scene_p_variants, 4, "table1, bonded, noslip, frictionless");
+    assert_eq!(
+        scene_p_variants, 6,
+        "table1, bonded, noslip, frictionless, linear, coulomb"
+    );
 }
 
 #[test]

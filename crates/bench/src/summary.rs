@@ -1,0 +1,189 @@
+//! The summary of the sweep: per variant and family, the solve time needed to
+//! reach a profile error (interpolated log-log on the family's Pareto front),
+//! and the ratio "peer time / axijoint time at equal profile error" (the
+//! peer's error against axijoint's reference, axijoint's time interpolated
+//! on the variant's front over all its methods). Wall and CPU times each
+//! have their own front.
+
+use crate::pareto::{cost_at_error, front};
+use crate::sweep::Row;
+use anyhow::{Context, Result};
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// Errors whose cost the summary reports.
+pub const TARGETS: [f64; 2] = [1e-2, 1e-3];
+
+/// One line of `accuracy_summary.csv`.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct SummaryRow {
+    /// "time_to_error" or "peer_ratio".
+    pub kind: String,
+    /// Scene P variant.
+    pub variant: String,
+    /// Family ("paper", "anderson", "newton", "linear", "all": every
+    /// axijoint method) or, for a ratio, "calculix size S".
+    pub family: String,
+    /// The error: a target, or the peer run's error vs axijoint's reference.
+    pub error: f64,
+    /// axijoint solve wall time at that error [s] (empty: not reached).
+    pub axijoint_wall_s: Option<f64>,
+    /// axijoint solve CPU time at that error [s].
+    pub axijoint_cpu_s: Option<f64>,
+    /// True when even the cheapest run was below the error: the time is an
+    /// upper bound.
+    pub upper_bound: bool,
+    /// The peer's solve wall time (mesh + ccx) [s].
+    pub peer_wall_s: Option<f64>,
+    /// The peer's solve CPU time [s].
+    pub peer_cpu_s: Option<f64>,
+    /// peer_wall_s / axijoint_wall_s.
+    pub ratio_wall: Option<f64>,
+    /// peer_cpu_s / axijoint_cpu_s.
+    pub ratio_cpu: Option<f64>,
+}
+
+/// The front of `rows` in (time, error), time read by `t`.
+fn front_of(rows: &[&Row], t: impl Fn(&Row) -> Option<f64>) -> Vec<(f64, f64)> {
+    let pts: Vec<(f64, f64)> = rows
+        .iter()
+        .filter(|r| r.ok())
+        .filter_map(|r| Some((t(r)?, r.err_vs_axijoint_ref?)))
+        .collect();
+    front(&pts).into_iter().map(|i| pts[i]).collect()
+}
+
+/// The summary rows of a sweep.
+pub fn summarize(rows: &[Row]) -> Vec<SummaryRow> {
+    let mut variants: Vec<&str> = Vec::new();
+    for r in rows {
+        if !variants.contains(&r.variant.as_str()) {
+            variants.push(&r.variant);
+        }
+    }
+    let mut out = Vec::new();
+    for v in variants {
+        let ax: Vec<&Row> = rows
+            .iter()
+            .filter(|r| r.variant == v && r.tool == "axijoint")
+            .collect();
+        let mut families: Vec<String> = Vec::new();
+        for r in &ax {
+            if !families.contains(&r.family()) {
+                families.push(r.family());
+            }
+        }
+        if families.len() > 1 {
+            families.push("all".into());
+        }
+        for fam in &families {
+            let sel: Vec<&Row> = ax
+                .iter()
+                .copied()
+                .filter(|r| fam == "all" || r.family() == *fam)
+                .collect();
+            let fw = front_of(&sel, |r| r.solve_wall_s);
+            let fc = front_of(&sel, |r| r.solve_cpu_s);
+            for target in TARGETS {
+                let w = cost_at_error(&fw, target);
+                let c = cost_at_error(&fc, target);
+                out.push(SummaryRow {
+                    kind: "time_to_error".into(),
+                    variant: v.into(),
+                    family: fam.clone(),
+                    error: target,
+                    axijoint_wall_s: w.map(|x| x.0),
+                    axijoint_cpu_s: c.map(|x| x.0),
+                    upper_bound: w.is_some_and(|x| x.1) || c.is_some_and(|x| x.1),
+                    ..SummaryRow::default()
+                });
+            }
+        }
+        let fw = front_of(&ax, |r| r.solve_wall_s);
+        let fc = front_of(&ax, |r| r.solve_cpu_s);
+        for p in rows
+            .iter()
+            .filter(|r| r.variant == v && r.tool == "calculix" && r.ok())
+        {
+            let Some(e) = p.err_vs_axijoint_ref else { continue };
+            let w = cost_at_error(&fw, e);
+            let c = cost_at_error(&fc, e);
+            let ratio = |peer: Option<f64>, ax: Option<(f64, bool)>| Some(peer? / ax?.0);
+            out.push(SummaryRow {
+                kind: "peer_ratio".into(),
+                variant: v.into(),
+                family: format!("calculix size {}", p.size),
+                error: e,
+                axijoint_wall_s: w.map(|x| x.0),
+                axijoint_cpu_s: c.map(|x| x.0),
+                upper_bound: w.is_some_and(|x| x.1) || c.is_some_and(|x| x.1),
+                peer_wall_s: p.solve_wall_s,
+                peer_cpu_s: p.solve_cpu_s,
+                ratio_wall: ratio(p.solve_wall_s, w),
+                ratio_cpu: ratio(p.solve_cpu_s, c),
+            });
+        }
+    }
+    out
+}
+
+/// Writes the summary CSV atomically.
+pub fn write_summary_csv(path: &Path, rows: &[SummaryRow]) -> Result<()> {
+    let tmp = path.with_extension("csv.partial");
+    {
+        let mut w =
+            csv::Writer::from_path(&tmp).with_context(|| format!("cannot write {}", tmp.display()))?;
+        for r in rows {
+            w.serialize(r)?;
+        }
+        w.flush()?;
+    }
+    std::fs::rename(&tmp, path).with_context(|| format!("cannot rename to {}", path.display()))
+}
+
+/// The summary as a console table.
+pub fn format_table(rows: &[SummaryRow]) -> String {
+    let f = |x: Option<f64>| x.map_or("-".to_owned(), |v| format!("{v:.3}"));
+    let mut s = String::new();
+    s.push_str("solve time to reach a profile error (log-log on the Pareto front; '<=': the cheapest run is already below it)\n");
+    s.push_str(&format!(
+        "{:<10} {:<10} {:>8} {:>12} {:>12}\n",
+        "variant", "family", "error", "wall [s]", "CPU [s]"
+    ));
+    for r in rows.iter().filter(|r| r.kind == "time_to_error") {
+        let b = if r.upper_bound { "<=" } else { "" };
+        s.push_str(&format!(
+            "{:<10} {:<10} {:>8} {:>12} {:>12}\n",
+            r.variant,
+            r.family,
+            format!("{}", r.error),
+            format!("{b}{}", f(r.axijoint_wall_s)),
+            format!("{b}{}", f(r.axijoint_cpu_s))
+        ));
+    }
+    let ratios: Vec<&SummaryRow> = rows.iter().filter(|r| r.kind == "peer_ratio").collect();
+    if !ratios.is_empty() {
+        s.push_str(
+            "\nCalculiX 3D peer against axijoint at equal profile error (peer error vs axijoint reference)\n",
+        );
+        s.push_str(&format!(
+            "{:<10} {:<22} {:>9} {:>10} {:>10} {:>9} {:>10} {:>10} {:>9}\n",
+            "variant", "peer", "error", "peer wall", "axi wall", "ratio", "peer CPU", "axi CPU", "ratio"
+        ));
+        for r in ratios {
+            s.push_str(&format!(
+                "{:<10} {:<22} {:>9.4} {:>10} {:>10} {:>9} {:>10} {:>10} {:>9}\n",
+                r.variant,
+                r.family,
+                r.error,
+                f(r.peer_wall_s),
+                f(r.axijoint_wall_s),
+                f(r.ratio_wall),
+                f(r.peer_cpu_s),
+                f(r.axijoint_cpu_s),
+                f(r.ratio_cpu)
+            ));
+        }
+    }
+    s
+}
