@@ -25,10 +25,25 @@
 //! mark (`VmHWM`, MiB): after step 1 (one factor alive) and at the end
 //! (M + 1 factors alive). gmsh runs as a child process and is not included.
 //!
+//! Columns appended after `others_cpus` (for the scaling study,
+//! `scripts/bench --scaling`): `setup_cpu_s` (pattern and symbolic
+//! factorization), `total_s` / `total_cpu_s` = setup + `factorize_all` +
+//! the 2-RHS solves of all harmonics (a linear run with every harmonic,
+//! meshing excluded), `factor_mb` (8 bytes x nnz(L), one kept factor),
+//! `est_peak_mb` (the peak this run was expected to reach) and
+//! `mem_available_mb` (`MemAvailable` when it started).
+//!
+//! Before factorizing, the driver estimates the memory the M + 1 kept
+//! factors need (from nnz(L) of the symbolic factorization) and refuses to
+//! run (exit code 3, a message on stderr) when it exceeds what the machine
+//! has available less a 1 GiB reserve; `--no-mem-check` skips the check.
+//! `--sample K` times harmonics 1..=K in step 1 (default 2; 1 halves the
+//! time of the largest meshes).
+//!
 //! ```text
 //! cargo run --release -p axijoint-solver --example bench_linear -- \
 //!     --size 0.04 --harmonics 16 [--refine 2] [--par binary|seq|rayon] \
-//!     [--scene geo/pile_footing.json] [--header]
+//!     [--scene geo/pile_footing.json] [--sample 1|2] [--no-mem-check] [--header]
 //! cargo run --release -p axijoint-solver --example bench_linear -- --print-header
 //! ```
 
@@ -46,13 +61,20 @@ use std::time::Instant;
 
 #[path = "../benches/support/cpu.rs"]
 mod cpu;
-use cpu::{cpu_seconds, machine_busy_seconds};
+use cpu::{cpu_seconds, machine_busy_seconds, mem_available_mb, peak_rss_mb, rss_mb};
+
+/// Exit code of a run refused for lack of memory.
+const EXIT_NO_MEMORY: u8 = 3;
+
+/// Memory kept free for the rest of the machine, MiB.
+const RESERVE_MB: f64 = 1024.0;
 
 const HEADER: &str = "scene,size,refine,M,par,threads,nodes,cells,dof,nnz_K,nnz_L,supernodal,\
 mesh_s,setup_s,assemble_s,numeric_s,factorize_s,solve2_s,\
 assemble_cpu_s,numeric_cpu_s,factorize_cpu_s,solve2_cpu_s,\
 factorize_all_s,factorize_all_cpu_s,solve_all_s,solve_all_cpu_s,\
-factorize_all_per_h_s,solve_all_per_h_s,peak_one_mb,peak_mb,others_cpus";
+factorize_all_per_h_s,solve_all_per_h_s,peak_one_mb,peak_mb,others_cpus,\
+setup_cpu_s,total_s,total_cpu_s,factor_mb,est_peak_mb,mem_available_mb";
 
 struct Args {
     scene: PathBuf,
@@ -61,10 +83,12 @@ struct Args {
     harmonics: u32,
     par: String,
     header: bool,
+    sample: u32,
+    mem_check: bool,
 }
 
 fn usage() -> String {
-    "usage: bench_linear --size S --harmonics M [--refine R] [--par binary|seq|rayon] [--scene FILE] [--header]\n       bench_linear --print-header"
+    "usage: bench_linear --size S --harmonics M [--refine R] [--par binary|seq|rayon] [--scene FILE]\n                    [--sample 1|2] [--no-mem-check] [--header]\n       bench_linear --print-header"
         .into()
 }
 
@@ -79,6 +103,8 @@ fn parse_args() -> Result<Args, String> {
         harmonics: 4,
         par: "binary".into(),
         header: false,
+        sample: 2,
+        mem_check: true,
     };
     let mut it = std::env::args().skip(1);
     while let Some(a) = it.next() {
@@ -98,6 +124,8 @@ fn parse_args() -> Result<Args, String> {
             }
             "--par" => args.par = value("--par")?,
             "--header" => args.header = true,
+            "--sample" => args.sample = value("--sample")?.parse().map_err(|e| format!("--sample: {e}"))?,
+            "--no-mem-check" => args.mem_check = false,
             "--print-header" => {
                 println!("{HEADER}");
                 std::process::exit(0);
@@ -110,19 +138,6 @@ fn parse_args() -> Result<Args, String> {
         return Err(format!("--size must be given and positive\n{}", usage()));
     }
     Ok(args)
-}
-
-/// Peak resident set size of this process so far, in MiB.
-fn peak_rss_mb() -> f64 {
-    std::fs::read_to_string("/proc/self/status")
-        .ok()
-        .and_then(|s| {
-            s.lines()
-                .find(|l| l.starts_with("VmHWM:"))
-                .and_then(|l| l.split_whitespace().nth(1))
-                .and_then(|kb| kb.parse::<f64>().ok())
-        })
-        .map_or(f64::NAN, |kb| kb / 1024.0)
 }
 
 /// Median wall and CPU times of `f`, repeated until `budget` seconds are
@@ -175,13 +190,31 @@ fn factor_size(pattern: &Pattern) -> (usize, bool) {
     }
 }
 
-fn run(args: &Args) -> Result<String, String> {
+/// Why a run failed: an error, or not enough memory (exit code 3).
+enum Failure {
+    Error(String),
+    NoMemory(String),
+}
+
+impl From<String> for Failure {
+    fn from(e: String) -> Self {
+        Failure::Error(e)
+    }
+}
+
+impl From<&str> for Failure {
+    fn from(e: &str) -> Self {
+        Failure::Error(e.into())
+    }
+}
+
+fn run(args: &Args) -> Result<String, Failure> {
     match args.par.as_str() {
         // As the `axijoint` binary sets it.
         "binary" => axijoint_solver::linear::prefer_harmonic_parallelism(),
         "seq" => faer::set_global_parallelism(faer::Par::Seq),
         "rayon" => faer::set_global_parallelism(faer::Par::rayon(0)),
-        other => return Err(format!("--par {other}: expected binary, seq or rayon")),
+        other => return Err(format!("--par {other}: expected binary, seq or rayon").into()),
     }
     let mut scene = Scene::from_path(&args.scene).map_err(|e| e.to_string())?;
     scene.mesh.parameters.insert("size".into(), args.size);
@@ -196,9 +229,11 @@ fn run(args: &Args) -> Result<String, String> {
     let (mesh, _) = mesh_scene(&scene, None).map_err(|e| e.to_string())?;
     let mesh_s = t.elapsed().as_secs_f64();
     let (nodes, cells) = (mesh.nodes.len(), mesh.cells.len());
-    let t = Instant::now();
+    let mem_available = mem_available_mb();
+    let (t, c) = (Instant::now(), cpu_seconds());
     let model = build_model(&scene, mesh).map_err(|e| e.to_string())?;
     let setup_s = t.elapsed().as_secs_f64();
+    let setup_cpu_s = cpu_seconds() - c;
     let pattern = model.pattern().clone();
     if pattern.nnz() != model.nnz() {
         return Err("the driver's pattern differs from the model's".into());
@@ -210,6 +245,29 @@ fn run(args: &Args) -> Result<String, String> {
         model.n_eq(),
         model.nnz()
     );
+    // Memory: M + 1 kept factors (8 bytes per entry of L; measured 0.94-1.0
+    // of that per extra harmonic) and two harmonics' values in flight.
+    let mib = 1024.0 * 1024.0;
+    let factor_mb = 8.0 * nnz_l as f64 / mib;
+    let in_flight = 2.0 * 8.0 * model.nnz() as f64 / mib;
+    let need = (f64::from(m_max) + 1.0) * factor_mb + in_flight;
+    let est_peak = rss_mb() + need;
+    let available_now = mem_available_mb();
+    // 10 % margin: the kept factors measured 0.94-1.0 of 8 nnz(L) each, and
+    // at 1e6 DOF the peak exceeded this estimate by 8 % (faer's workspace).
+    if args.mem_check && available_now.is_finite() && 1.1 * need > available_now - RESERVE_MB {
+        return Err(Failure::NoMemory(format!(
+            "not enough memory for {} kept factors of {} DOF: they need about {:.1} GiB \
+             ({:.2} GiB each, nnz(L) = {nnz_l}, plus 10 %), {:.1} GiB are available (less a {:.0} GiB reserve); \
+             lower M or the mesh size, or free memory (--no-mem-check to try anyway)",
+            m_max + 1,
+            model.n_eq(),
+            1.1 * need / 1024.0,
+            factor_mb / 1024.0,
+            available_now / 1024.0,
+            RESERVE_MB / 1024.0
+        )));
+    }
     let (fa, fb) = loads(3 * nodes);
 
     // CPUs used by other processes while we measure (phases 1 and 2).
@@ -227,7 +285,7 @@ fn run(args: &Args) -> Result<String, String> {
         let sample: Vec<u32> = if m_max == 0 {
             vec![0]
         } else {
-            (1..=m_max.min(2)).collect()
+            (1..=m_max.min(args.sample.max(1))).collect()
         };
         for m in sample {
             let (ta, ca, (values, _)) = timed(budget, reps, || model.assemble(m));
@@ -269,8 +327,7 @@ fn run(args: &Args) -> Result<String, String> {
     let sall_cpu = cpu_seconds() - c;
     assert_eq!(solved, 2 * ms.len());
     let peak = peak_rss_mb();
-    let others =
-        ((machine_busy_seconds() - busy0) - (cpu_seconds() - cpu0)).max(0.0) / t0.elapsed().as_secs_f64();
+    let others = cpu::others_cpus((busy0, cpu0, t0));
     eprintln!("  all {} harmonics: factorize_all {fall:.3} s ({fall_cpu:.2} CPU s), solves {sall:.3} s, peak {peak:.0} MiB", ms.len());
     drop(factors);
 
@@ -281,7 +338,8 @@ fn run(args: &Args) -> Result<String, String> {
         .map_or("?".into(), |s| s.to_string_lossy().into_owned());
     Ok(format!(
         "{scene_name},{},{refine},{m_max},{},{},{nodes},{cells},{},{},{nnz_l},{},{mesh_s:.4},{setup_s:.4},\
-         {:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{fall:.4},{fall_cpu:.4},{sall:.4},{sall_cpu:.4},{:.6},{:.6},{peak_one:.1},{peak:.1},{others:.2}",
+         {:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{fall:.4},{fall_cpu:.4},{sall:.4},{sall_cpu:.4},{:.6},{:.6},{peak_one:.1},{peak:.1},{others:.2},\
+         {setup_cpu_s:.4},{:.4},{:.4},{factor_mb:.1},{est_peak:.1},{mem_available:.0}",
         args.size,
         args.par,
         rayon::current_num_threads(),
@@ -298,6 +356,8 @@ fn run(args: &Args) -> Result<String, String> {
         cpu(&sol),
         fall / h,
         sall / h,
+        setup_s + fall + sall,
+        setup_cpu_s + fall_cpu + sall_cpu,
     ))
 }
 
@@ -317,9 +377,13 @@ fn main() -> ExitCode {
             println!("{row}");
             ExitCode::SUCCESS
         }
-        Err(e) => {
+        Err(Failure::Error(e)) => {
             eprintln!("bench_linear: {e}");
             ExitCode::FAILURE
+        }
+        Err(Failure::NoMemory(e)) => {
+            eprintln!("bench_linear: refused: {e}");
+            ExitCode::from(EXIT_NO_MEMORY)
         }
     }
 }

@@ -1,5 +1,6 @@
-//! CPU-time helpers shared by the linear-solve benchmark targets
-//! (`benches/linear.rs`, `examples/bench_linear.rs`).
+//! CPU-time and memory helpers shared by the benchmark targets
+//! (`benches/linear.rs`, `examples/bench_linear.rs`,
+//! `examples/bench_nonlinear.rs`).
 #![allow(dead_code)]
 
 #[repr(C)]
@@ -48,4 +49,41 @@ pub fn machine_busy_seconds() -> f64 {
             Some(busy / 100.0)
         })
         .unwrap_or(f64::NAN)
+}
+
+/// A `kB` field of `/proc/self/status` or `/proc/meminfo`, in MiB.
+fn proc_kb_field(file: &str, field: &str) -> f64 {
+    std::fs::read_to_string(file)
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with(field))
+                .and_then(|l| l.split_whitespace().nth(1))
+                .and_then(|kb| kb.parse::<f64>().ok())
+        })
+        .map_or(f64::NAN, |kb| kb / 1024.0)
+}
+
+/// Peak resident set size of this process so far (`VmHWM`), in MiB.
+pub fn peak_rss_mb() -> f64 {
+    proc_kb_field("/proc/self/status", "VmHWM:")
+}
+
+/// Resident set size of this process now (`VmRSS`), in MiB.
+pub fn rss_mb() -> f64 {
+    proc_kb_field("/proc/self/status", "VmRSS:")
+}
+
+/// Memory the kernel estimates is available to a new allocation without
+/// swapping (`MemAvailable` of `/proc/meminfo`), in MiB.
+pub fn mem_available_mb() -> f64 {
+    proc_kb_field("/proc/meminfo", "MemAvailable:")
+}
+
+/// Average number of CPUs other processes kept busy since
+/// `(machine_busy_seconds(), cpu_seconds(), Instant::now())` were read.
+pub fn others_cpus(since: (f64, f64, std::time::Instant)) -> f64 {
+    let (busy0, cpu0, t0) = since;
+    ((machine_busy_seconds() - busy0) - (cpu_seconds() - cpu0)).max(0.0)
+        / t0.elapsed().as_secs_f64().max(1e-9)
 }
