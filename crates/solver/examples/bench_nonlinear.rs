@@ -53,7 +53,7 @@
 use axijoint_solver::driver::{
     build_model, mesh_scene, reactions, scene_sections, solve_scene, Displacements, HarmonicDisplacement,
 };
-use axijoint_solver::iteration::{stress_transfer, IterationSettings, Method, Outcome};
+use axijoint_solver::iteration::{stress_transfer_from, IterationSettings, Method, Outcome};
 use axijoint_solver::linear::{HarmonicFactor, Model};
 use axijoint_solver::loads::{assemble_loads, HarmonicLoads};
 use axijoint_solver::scene::{JointLaw, Scene, SolverMethod, SolverSettings};
@@ -121,7 +121,7 @@ fn parse_args() -> Result<Args, String> {
         harmonics: 4,
         epsilon: 1e-6,
         variants: vec!["table1".into(), "frictionless".into()],
-        methods: vec![SolverMethod::Anderson, SolverMethod::Paper],
+        methods: vec![SolverMethod::Newton, SolverMethod::Anderson, SolverMethod::Paper],
         reps: 5,
         end_to_end: false,
         header: false,
@@ -253,17 +253,31 @@ fn settings(scene: &Scene) -> IterationSettings {
 }
 
 /// The stress-transfer iteration with harmonics 0..=m, as the driver runs it.
+/// The elastic solution `elastic` is reused, as the driver does.
+#[allow(clippy::too_many_arguments)]
 fn iterate(
     scene: &Scene,
     model: &Model,
     factors: &[HarmonicFactor],
     loads: &[HarmonicLoads],
     laws: &[JointLaw],
+    elastic: &Displacements,
     m: u32,
 ) -> Result<Outcome, String> {
     let sections = scene_sections(scene, loads).map_err(|e| e.to_string())?;
     let loads: Vec<HarmonicLoads> = loads.iter().filter(|h| h.m <= m).cloned().collect();
-    stress_transfer(model, factors, &loads, laws, &sections, &settings(scene), |_| {}).map_err(|e| {
+    let settings = settings(scene);
+    stress_transfer_from(
+        model,
+        factors,
+        &loads,
+        laws,
+        &sections,
+        &settings,
+        Some(elastic),
+        |_| {},
+    )
+    .map_err(|e| {
         let h = e.history();
         format!(
             "{e} (after {} iterations, ratio {:.2e})",
@@ -314,7 +328,6 @@ fn run_variant(args: &Args, variant: &str, rows: &mut Vec<Row>) -> Result<(), St
     let factors = factors.map_err(|e| e.to_string())?;
     let (solve_s, solve_c, u_linear) = timed(reps, budget, || solve_loads(&model, &factors, &loads));
     let (reactions_s, reactions_c, _) = timed(reps, budget, || reactions(&scene, &model, &loads, &u_linear));
-    drop(u_linear);
     let linear_s = loads_s + setup_s + factorize_s + solve_s + reactions_s;
     let linear_c = loads_c + setup_c + factorize_c + solve_c + reactions_c;
     let laws: Vec<JointLaw> = model
@@ -361,7 +374,7 @@ fn run_variant(args: &Args, variant: &str, rows: &mut Vec<Row>) -> Result<(), St
         let mut clock: Vec<(f64, f64, f64)> = Vec::new();
         let (iterate_s, iterate_c, outcome) = timed(reps, budget, || {
             let t = Instant::now();
-            let out = iterate(&scene, &model, &factors, &loads, &laws, m_max);
+            let out = iterate(&scene, &model, &factors, &loads, &laws, &u_linear, m_max);
             let wall = t.elapsed().as_secs_f64();
             if let Ok(o) = &out {
                 let first = o.history.first().map_or(f64::NAN, |r| r.seconds);
@@ -395,7 +408,7 @@ fn run_variant(args: &Args, variant: &str, rows: &mut Vec<Row>) -> Result<(), St
         // The M/2 comparison of `solve_scene` (M >= 2).
         let (check_s, check_c, check_iterations, status) = if m_max >= 2 {
             let (s, c, half) = timed(reps, budget, || {
-                iterate(&scene, &model, &factors, &loads, &laws, m_max / 2)
+                iterate(&scene, &model, &factors, &loads, &laws, &u_linear, m_max / 2)
             });
             match half {
                 Ok(h) => (s, c, h.history.len().to_string(), "ok".to_string()),
