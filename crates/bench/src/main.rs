@@ -88,7 +88,7 @@ struct Cli {
     #[arg(long)]
     no_peer: bool,
     /// Folder of accuracy.csv, accuracy.svg/.png, accuracy_summary.csv
-    /// [default: docs/performance; with --quick: WORK/quick].
+    /// (default: docs/performance; with --quick: WORK/quick).
     #[arg(long)]
     out_dir: Option<PathBuf>,
     /// Scratch folder (scenes, run folders, kept cut CSVs, peer runs).
@@ -103,7 +103,7 @@ struct Cli {
     #[arg(long, value_delimiter = ',')]
     sizes: Vec<f64>,
     /// Highest harmonics M of the nonlinear variants; the largest is the
-    /// reference's [default: 4,8,16,32; --quick: 4,8].
+    /// reference's (default: 4,8,16,32; --quick: 4,8).
     #[arg(long, value_delimiter = ',')]
     harmonics: Vec<usize>,
     /// Methods of the nonlinear variants [default: paper,anderson,newton;

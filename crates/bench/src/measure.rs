@@ -7,11 +7,11 @@ use std::time::Instant;
 /// What one child process cost.
 #[derive(Clone, Debug)]
 pub struct Measured {
-    /// Wall-clock time [s].
+    /// Wall-clock time (s).
     pub wall_seconds: f64,
-    /// User + system CPU time of the child [s].
+    /// User + system CPU time of the child (s).
     pub cpu_seconds: f64,
-    /// Peak resident set size of the child [bytes].
+    /// Peak resident set size of the child (bytes).
     pub peak_rss_bytes: u64,
     /// Captured standard output.
     pub stdout: String,

@@ -65,7 +65,7 @@ impl PeerVariant {
 /// Where and with what the peer runs.
 #[derive(Clone, Debug)]
 pub struct PeerOptions {
-    /// Element size at the pile side [m] (gmsh parameter `size`).
+    /// Element size at the pile side (m) (gmsh parameter `size`).
     pub size: f64,
     /// Directory for the mesh, deck and results (created if missing).
     pub work_dir: PathBuf,
@@ -80,7 +80,7 @@ pub struct PeerOptions {
 pub struct PeerRun {
     /// The variant run.
     pub variant: PeerVariant,
-    /// Element size at the pile side [m].
+    /// Element size at the pile side (m).
     pub size: f64,
     /// Profiles a-a and b-b at theta 0 and 180.
     pub profiles: Vec<Profile>,
@@ -90,15 +90,15 @@ pub struct PeerRun {
     pub elements: usize,
     /// Equations solved (CalculiX's "number of equations").
     pub dofs: usize,
-    /// gmsh wall time [s].
+    /// gmsh wall time (s).
     pub mesh_seconds: f64,
-    /// ccx wall time [s].
+    /// ccx wall time (s).
     pub ccx_wall_seconds: f64,
-    /// ccx CPU time (user + system) [s].
+    /// ccx CPU time (user + system) (s).
     pub ccx_cpu_seconds: f64,
-    /// ccx peak resident memory [bytes].
+    /// ccx peak resident memory (bytes).
     pub ccx_peak_rss_bytes: u64,
-    /// Wall time of the whole run (mesh, deck, ccx, reading) [s].
+    /// Wall time of the whole run (mesh, deck, ccx, reading) (s).
     pub total_wall_seconds: f64,
     /// Load increments CalculiX took (lines of the .sta file).
     pub increments: usize,
@@ -109,15 +109,15 @@ pub struct PeerRun {
 pub struct ContactSample {
     /// Node coordinates.
     pub position: [f64; 3],
-    /// Contact pressure CPRESS at the pile node (the slave side) [MPa],
+    /// Contact pressure CPRESS at the pile node (the slave side) (MPa),
     /// positive in compression; 0 where ccx reports no contact.
     pub pressure: f64,
-    /// Contact shear sqrt(CSHEAR1^2 + CSHEAR2^2) [MPa].
+    /// Contact shear sqrt(CSHEAR1^2 + CSHEAR2^2) (MPa).
     pub shear: f64,
-    /// Normal gap (u_footing - u_pile) . e_r from the displacements [m]:
+    /// Normal gap (u_footing - u_pile) . e_r from the displacements (m):
     /// positive when the joint opens.
     pub gap: f64,
-    /// Tangential relative displacement |(u_footing - u_pile) - gap e_r| [m].
+    /// Tangential relative displacement |(u_footing - u_pile) - gap e_r| (m).
     pub slip: f64,
 }
 

@@ -5,12 +5,12 @@
 /// One stress sample on a cut.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Sample {
-    /// Radius r of the sample [m].
+    /// Radius r of the sample (m).
     pub r: f64,
     /// Body the value belongs to ("pile" or "footing"); at the interface
     /// r = a both bodies report a sample.
     pub body: String,
-    /// Stress component value [MPa].
+    /// Stress component value (MPa).
     pub value: f64,
 }
 
@@ -19,7 +19,7 @@ pub struct Sample {
 pub struct Profile {
     /// Cut name: "a-a" (z = 0.75, sigma_z) or "b-b" (z = 0.25, sigma_r).
     pub cut: String,
-    /// Angle of the meridional half-plane [deg]: 0 or 180.
+    /// Angle of the meridional half-plane (deg): 0 or 180.
     pub theta_deg: f64,
     /// Component name as in axijoint's CSV header: "sigma_z", "sigma_r".
     pub component: String,

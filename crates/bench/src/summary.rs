@@ -26,16 +26,16 @@ pub struct SummaryRow {
     pub family: String,
     /// The error: a target, or the peer run's error vs axijoint's reference.
     pub error: f64,
-    /// axijoint solve wall time at that error [s] (empty: not reached).
+    /// axijoint solve wall time at that error (s) (empty: not reached).
     pub axijoint_wall_s: Option<f64>,
-    /// axijoint solve CPU time at that error [s].
+    /// axijoint solve CPU time at that error (s).
     pub axijoint_cpu_s: Option<f64>,
     /// True when even the cheapest run was below the error: the time is an
     /// upper bound.
     pub upper_bound: bool,
-    /// The peer's solve wall time (mesh + ccx) [s].
+    /// The peer's solve wall time (mesh + ccx) (s).
     pub peer_wall_s: Option<f64>,
-    /// The peer's solve CPU time [s].
+    /// The peer's solve CPU time (s).
     pub peer_cpu_s: Option<f64>,
     /// peer_wall_s / axijoint_wall_s.
     pub ratio_wall: Option<f64>,

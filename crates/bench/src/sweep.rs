@@ -97,7 +97,7 @@ pub struct Row {
     pub role: String,
     /// True for the run every other run of the variant is compared with.
     pub is_reference: bool,
-    /// Mesh size parameter `size` [m].
+    /// Mesh size parameter `size` (m).
     pub size: f64,
     /// axijoint: DOF per harmonic.
     pub dof_per_harmonic: Option<usize>,
@@ -113,19 +113,19 @@ pub struct Row {
     pub iterations: Option<usize>,
     /// axijoint: back-substitution sweeps of all harmonics.
     pub solves: Option<usize>,
-    /// `axijoint solve` (mesh + solve + solution folder) wall time [s];
+    /// `axijoint solve` (mesh + solve + solution folder) wall time (s);
     /// calculix: gmsh mesh + ccx.
     pub solve_wall_s: Option<f64>,
-    /// CPU time of the same [s] (calculix: ccx CPU + mesh wall).
+    /// CPU time of the same (s) (calculix: ccx CPU + mesh wall).
     pub solve_cpu_s: Option<f64>,
-    /// Peak memory of the same [MiB] (calculix: ccx).
+    /// Peak memory of the same (MiB) (calculix: ccx).
     pub solve_peak_rss_mib: Option<f64>,
-    /// `axijoint run` (mesh + solve + every output) wall time [s];
+    /// `axijoint run` (mesh + solve + every output) wall time (s);
     /// calculix: the whole peer run.
     pub run_wall_s: Option<f64>,
-    /// CPU time of `axijoint run` [s].
+    /// CPU time of `axijoint run` (s).
     pub run_cpu_s: Option<f64>,
-    /// Peak memory of `axijoint run` [MiB].
+    /// Peak memory of `axijoint run` (MiB).
     pub run_peak_rss_mib: Option<f64>,
     /// Relative L2 error of the a-a and b-b profiles against axijoint's
     /// reference of the variant.

@@ -5,15 +5,15 @@ use super::model::{Body, Model3d};
 use super::PeerVariant;
 use std::fmt::Write as _;
 
-/// Young's modulus of pile and footing [MPa].
+/// Young's modulus of pile and footing (MPa).
 pub const E: f64 = 2.0e4;
 /// Poisson's ratio of pile and footing.
 pub const NU: f64 = 0.17;
-/// Normal joint stiffness k_eta [MPa/m] (CalculiX slope K, same units).
+/// Normal joint stiffness k_eta (MPa/m) (CalculiX slope K, same units).
 pub const K_ETA: f64 = 2.0e4;
-/// Tangential joint stiffness k_xi = k_theta [MPa/m] (stick slope).
+/// Tangential joint stiffness k_xi = k_theta (MPa/m) (stick slope).
 pub const K_XI: f64 = 1.0e4;
-/// Friction angle of the Coulomb variant [deg].
+/// Friction angle of the Coulomb variant (deg).
 pub const PHI_DEG: f64 = 30.0;
 
 /// Writes the deck. `bonded` pairs get `*EQUATION`s, the jointed variants a

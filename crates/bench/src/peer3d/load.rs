@@ -10,27 +10,27 @@
 
 use super::model::{Model3d, Z_END};
 
-/// Horizontal load H on the full pile [MN].
+/// Horizontal load H on the full pile (MN).
 pub const H: f64 = 0.5;
-/// z of the point of action of H [m].
+/// z of the point of action of H (m).
 pub const Z_LOAD: f64 = -3.0;
 
-/// Nodal forces of the end load: (node, [Fx, Fy, Fz]), sorted by node.
+/// Nodal forces of the end load: (node, (Fx, Fy, Fz)), sorted by node.
 #[derive(Clone, Debug)]
 pub struct EndLoad {
     /// Forces per node.
     pub forces: Vec<(usize, [f64; 3])>,
-    /// Uniform shear traction t_x [MPa].
+    /// Uniform shear traction t_x (MPa).
     pub t_x: f64,
-    /// Slope c of t_z = c (x - x_c) [MPa/m].
+    /// Slope c of t_z = c (x - x_c) (MPa/m).
     pub c: f64,
-    /// Centroid x_c of the discrete end face [m].
+    /// Centroid x_c of the discrete end face (m).
     pub x_c: f64,
-    /// Area of the discrete end face [m^2].
+    /// Area of the discrete end face (m^2).
     pub area: f64,
 }
 
-/// Points (on [0, 1]) and weights of 5-point Gauss-Legendre.
+/// Points (on (0, 1)) and weights of 5-point Gauss-Legendre.
 fn gauss5() -> [(f64, f64); 5] {
     // Nodes and weights on [-1, 1].
     let (x1, x2) = (0.906_179_845_938_664, 0.538_469_310_105_683);

@@ -7,15 +7,15 @@ use anyhow::{bail, Context, Result};
 use std::collections::HashMap;
 use std::path::Path;
 
-/// Pile radius a [m].
+/// Pile radius a (m).
 pub const A: f64 = 0.5;
-/// z of the loaded pile end [m].
+/// z of the loaded pile end (m).
 pub const Z_END: f64 = -1.5;
-/// z of the pile head (bonded) [m].
+/// z of the pile head (bonded) (m).
 pub const Z_HEAD: f64 = 1.0;
-/// Outer radius of the footing (fixed) [m].
+/// Outer radius of the footing (fixed) (m).
 pub const R_OUT: f64 = 3.0;
-/// Geometric tolerance for classifying nodes [m].
+/// Geometric tolerance for classifying nodes (m).
 pub const TOL: f64 = 1e-6;
 
 /// Which body an element belongs to.
