@@ -215,21 +215,7 @@ mod tests {
     use super::*;
 
     fn profile(body_points: &[(&str, &[(f64, f64)])]) -> Profile {
-        Profile {
-            cut: "a-a".into(),
-            theta_deg: 0.0,
-            component: "sigma_z".into(),
-            samples: body_points
-                .iter()
-                .flat_map(|(b, pts)| {
-                    pts.iter().map(|&(r, value)| Sample {
-                        r,
-                        body: (*b).to_owned(),
-                        value,
-                    })
-                })
-                .collect(),
-        }
+        Profile::from_bodies("a-a", 0.0, "sigma_z", body_points)
     }
 
     #[test]

@@ -26,3 +26,29 @@ pub struct Profile {
     /// Samples in order of increasing r (pile before footing at r = a).
     pub samples: Vec<Sample>,
 }
+
+impl Profile {
+    /// A profile from `(body, [(r, value), ...])` groups, in that order.
+    pub fn from_bodies<P: AsRef<[(f64, f64)]>>(
+        cut: &str,
+        theta_deg: f64,
+        component: &str,
+        bodies: &[(&str, P)],
+    ) -> Profile {
+        Profile {
+            cut: cut.into(),
+            theta_deg,
+            component: component.into(),
+            samples: bodies
+                .iter()
+                .flat_map(|(body, pts)| {
+                    pts.as_ref().iter().map(|&(r, value)| Sample {
+                        r,
+                        body: (*body).to_owned(),
+                        value,
+                    })
+                })
+                .collect(),
+        }
+    }
+}

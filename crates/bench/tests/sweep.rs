@@ -5,7 +5,7 @@
 use axijoint_bench::chart::{write_chart, FRONT_LABEL, PEER_LABEL};
 use axijoint_bench::errors::{read_cut_csv, read_scene_p_profiles, relative_error};
 use axijoint_bench::pareto::{cost_at_error, front};
-use axijoint_bench::profile::{Profile, Sample};
+use axijoint_bench::profile::Profile;
 use axijoint_bench::summary::summarize;
 use axijoint_bench::sweep::{
     compute_errors, failure_line, known_variant, read_csv, run_job, write_csv, Config, Job, Row,
@@ -13,21 +13,7 @@ use axijoint_bench::sweep::{
 use std::path::{Path, PathBuf};
 
 fn profile(cut: &str, theta: f64, bodies: &[(&str, Vec<(f64, f64)>)]) -> Profile {
-    Profile {
-        cut: cut.into(),
-        theta_deg: theta,
-        component: "sigma_z".into(),
-        samples: bodies
-            .iter()
-            .flat_map(|(b, pts)| {
-                pts.iter().map(|&(r, value)| Sample {
-                    r,
-                    body: (*b).to_owned(),
-                    value,
-                })
-            })
-            .collect(),
-    }
+    Profile::from_bodies(cut, theta, "sigma_z", bodies)
 }
 
 fn grid(n: usize, lo: f64, hi: f64, f: impl Fn(f64) -> f64) -> Vec<(f64, f64)> {

@@ -51,13 +51,13 @@
 //! ```
 
 use axijoint_solver::driver::{
-    build_model, mesh_scene, reactions, scene_sections, solve_scene, Displacements, HarmonicDisplacement,
+    build_model, iteration_settings, mesh_scene, reactions, scene_sections, solve_loads, solve_scene,
+    Displacements,
 };
-use axijoint_solver::iteration::{stress_transfer_from, IterationSettings, Method, Outcome};
+use axijoint_solver::iteration::{stress_transfer_from, Outcome};
 use axijoint_solver::linear::{HarmonicFactor, Model};
 use axijoint_solver::loads::{assemble_loads, HarmonicLoads};
 use axijoint_solver::scene::{JointLaw, Scene, SolverMethod, SolverSettings};
-use rayon::prelude::*;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
@@ -207,51 +207,6 @@ fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
-fn loaded(h: &HarmonicLoads) -> bool {
-    h.symmetric.iter().chain(&h.antisymmetric).any(|&v| v != 0.0)
-}
-
-/// The solve of the loads, as `driver::solve_linear` does it.
-fn solve_loads(model: &Model, factors: &[HarmonicFactor], loads: &[HarmonicLoads]) -> Displacements {
-    let n = model.mesh.nodes.len();
-    let harmonics = loads
-        .par_iter()
-        .map(|h| match factors.iter().find(|f| f.m == h.m) {
-            Some(f) if loaded(h) => {
-                let mut u = model.solve(f, &[&h.symmetric, &h.antisymmetric]);
-                let antisymmetric = u.pop().unwrap_or_default();
-                let symmetric = u.pop().unwrap_or_default();
-                HarmonicDisplacement {
-                    m: h.m,
-                    symmetric,
-                    antisymmetric,
-                }
-            }
-            _ => HarmonicDisplacement {
-                m: h.m,
-                symmetric: vec![0.0; 3 * n],
-                antisymmetric: vec![0.0; 3 * n],
-            },
-        })
-        .collect();
-    Displacements { harmonics }
-}
-
-/// The iteration settings of a scene, as `driver::solve_scene` derives them
-/// (a copy of the driver's private `iteration_settings`).
-fn settings(scene: &Scene) -> IterationSettings {
-    IterationSettings {
-        method: match scene.solver.method {
-            SolverMethod::Paper => Method::Plain,
-            SolverMethod::Anderson => Method::Anderson { depth: 8 },
-            SolverMethod::Newton => Method::Newton,
-        },
-        epsilon: scene.solver.epsilon,
-        max_iterations: scene.solver.max_iterations,
-        ..IterationSettings::default()
-    }
-}
-
 /// The stress-transfer iteration with harmonics 0..=m, as the driver runs it.
 /// The elastic solution `elastic` is reused, as the driver does.
 #[allow(clippy::too_many_arguments)]
@@ -266,7 +221,7 @@ fn iterate(
 ) -> Result<Outcome, String> {
     let sections = scene_sections(scene, loads).map_err(|e| e.to_string())?;
     let loads: Vec<HarmonicLoads> = loads.iter().filter(|h| h.m <= m).cloned().collect();
-    let settings = settings(scene);
+    let settings = iteration_settings(scene);
     stress_transfer_from(
         model,
         factors,

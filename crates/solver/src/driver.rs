@@ -180,38 +180,16 @@ fn linear_run(
     let t0 = Instant::now();
     let model = build_model(scene, mesh)?;
     let setup = t0.elapsed().as_secs_f64();
-    let loaded = |h: &HarmonicLoads| h.symmetric.iter().chain(&h.antisymmetric).any(|&v| v != 0.0);
     let wanted: Vec<u32> = loads
         .iter()
-        .filter(|h| all_factors || loaded(h))
+        .filter(|h| all_factors || h.is_loaded())
         .map(|h| h.m)
         .collect();
     let t1 = Instant::now();
     let factors = model.factorize_all(&wanted)?;
     let factorize = t1.elapsed().as_secs_f64();
     let t2 = Instant::now();
-    let n = model.mesh.nodes.len();
-    let harmonics = loads
-        .par_iter()
-        .map(|h| match factors.iter().find(|f| f.m == h.m) {
-            Some(f) if loaded(h) => {
-                let mut u = model.solve(f, &[&h.symmetric, &h.antisymmetric]);
-                let antisymmetric = u.pop().unwrap_or_default();
-                let symmetric = u.pop().unwrap_or_default();
-                HarmonicDisplacement {
-                    m: h.m,
-                    symmetric,
-                    antisymmetric,
-                }
-            }
-            _ => HarmonicDisplacement {
-                m: h.m,
-                symmetric: vec![0.0; 3 * n],
-                antisymmetric: vec![0.0; 3 * n],
-            },
-        })
-        .collect();
-    let displacements = Displacements { harmonics };
+    let displacements = solve_loads(&model, &factors, &loads);
     let solve = t2.elapsed().as_secs_f64();
     let t3 = Instant::now();
     let reactions = if with_reactions {
@@ -234,6 +212,33 @@ fn linear_run(
             reactions: t3.elapsed().as_secs_f64(),
         },
     })
+}
+
+/// Displacements of `loads`: each loaded harmonic solved with its factor in
+/// `factors` (both families in one solve), the others zero.
+pub fn solve_loads(model: &Model, factors: &[HarmonicFactor], loads: &[HarmonicLoads]) -> Displacements {
+    let n = model.mesh.nodes.len();
+    let harmonics = loads
+        .par_iter()
+        .map(|h| match factors.iter().find(|f| f.m == h.m) {
+            Some(f) if h.is_loaded() => {
+                let mut u = model.solve(f, &[&h.symmetric, &h.antisymmetric]);
+                let antisymmetric = u.pop().unwrap_or_default();
+                let symmetric = u.pop().unwrap_or_default();
+                HarmonicDisplacement {
+                    m: h.m,
+                    symmetric,
+                    antisymmetric,
+                }
+            }
+            _ => HarmonicDisplacement {
+                m: h.m,
+                symmetric: vec![0.0; 3 * n],
+                antisymmetric: vec![0.0; 3 * n],
+            },
+        })
+        .collect();
+    Displacements { harmonics }
 }
 
 /// Reactions `K u - f` at the supported DOFs, per support (a DOF fixed by
@@ -473,7 +478,8 @@ fn joint_laws(scene: &Scene, model: &Model) -> Vec<crate::scene::JointLaw> {
         .collect()
 }
 
-fn iteration_settings(scene: &Scene) -> crate::iteration::IterationSettings {
+/// The iteration settings of a scene's `solver` block.
+pub fn iteration_settings(scene: &Scene) -> crate::iteration::IterationSettings {
     use crate::iteration::{IterationSettings, Method};
     IterationSettings {
         method: match scene.solver.method {

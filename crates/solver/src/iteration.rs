@@ -610,29 +610,20 @@ impl<'a> Setup<'a> {
     /// one full solve of `F + A x` per harmonic.
     fn full_displacements(&self, x: &[f64]) -> Displacements {
         let n = self.model.mesh.nodes.len();
-        let n_j = self.joint_nodes.len();
+        let mut released = self.zero_loads();
+        self.analyse(x, &mut released);
         let harmonics = self
             .loads
             .par_iter()
             .zip(&self.factor_of)
+            .zip(&released)
             .enumerate()
-            .map(|(h, (f, factor))| {
+            .map(|(h, ((f, factor), g))| {
                 let mut loads = [f.symmetric.clone(), f.antisymmetric.clone()];
-                for s in 0..self.sections.len() {
-                    let w = self.sections.weight[s];
-                    let xs = &x[s * 3 * n_j..(s + 1) * 3 * n_j];
-                    for (family, vec) in [Family::Symmetric, Family::Antisymmetric]
-                        .into_iter()
-                        .zip(&mut loads)
-                    {
-                        let (a, b) = self.phi(s, h, family);
-                        if a == 0.0 && b == 0.0 {
-                            continue;
-                        }
-                        for (j, &k) in self.joint_nodes.iter().enumerate() {
-                            vec[3 * k] += w * a * xs[3 * j];
-                            vec[3 * k + 1] += w * a * xs[3 * j + 1];
-                            vec[3 * k + 2] += w * b * xs[3 * j + 2];
+                for (vec, gk) in loads.iter_mut().zip(g) {
+                    for (&k, gj) in self.joint_nodes.iter().zip(gk.chunks_exact(3)) {
+                        for c in 0..3 {
+                            vec[3 * k + c] += gj[c];
                         }
                     }
                 }
@@ -659,7 +650,8 @@ impl<'a> Setup<'a> {
     }
 
     /// `Psi(x)` (one sweep): solve for `F + A x`, synthesize, release. The
-    /// break memory `ev.broken` is carried forward. Returns the displacements.
+    /// break memory `ev.broken` is carried forward. Returns the joint-node
+    /// amplitudes.
     fn evaluate(&self, x: &[f64], released: &mut JointAmplitudes, ev: &mut Eval) -> JointAmplitudes {
         let u = self.solve(x, true, released);
         self.synthesize_all(&u, &mut ev.u_s);

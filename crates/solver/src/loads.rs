@@ -107,6 +107,14 @@ pub struct HarmonicLoads {
 }
 
 impl HarmonicLoads {
+    /// Whether any load component of this harmonic is non-zero.
+    pub fn is_loaded(&self) -> bool {
+        self.symmetric
+            .iter()
+            .chain(&self.antisymmetric)
+            .any(|&v| v != 0.0)
+    }
+
     /// No load on `n_nodes` nodes.
     pub fn zeros(m: u32, n_nodes: usize) -> Self {
         HarmonicLoads {
