@@ -19,6 +19,7 @@
 //! | [`elements::JointPoint`] | one joint integration point (shape values, tangent, r, weight) |
 //! | [`scene::Scene`] | a run's JSON input: mesh, materials, joints, supports, loads, settings |
 //! | [`loads::HarmonicLoads`] | nodal forces of one harmonic, both families ([`loads::assemble_loads`]) |
+//! | [`solution::Displacements`] | displacement amplitudes of every harmonic ([`solution::HarmonicDisplacement`]); with [`solution::SupportReaction`] and [`solution::Timings`] the solution types |
 //!
 //! Element DOFs: 3 per node, `(u, v, w)`, node-major `[u0, v0, w0, u1, ...]`.
 
@@ -36,3 +37,4 @@ pub mod loads;
 pub mod material;
 pub mod results;
 pub mod scene;
+pub mod solution;

@@ -12,10 +12,10 @@
 //! into place only when complete; an existing target is replaced only if it is
 //! an earlier solution folder (it has `solution.json`) or empty.
 
-use crate::driver::{Displacements, HarmonicDisplacement, SupportReaction, Timings};
 use crate::error::SolverError;
 use crate::loads::Resultants;
 use crate::scene::Scene;
+use crate::solution::{Displacements, HarmonicDisplacement, SupportReaction, Timings};
 use axijoint_mesh::{insert_joints, read_msh, validate, Mesh};
 use serde::{Deserialize, Serialize};
 use std::io::Write;

@@ -1,0 +1,185 @@
+//! Why an iteration stopped: no equilibrium, a joint too stiff for the
+//! iteration, or the iteration limit.
+
+use super::setup::Setup;
+use super::{IterationError, IterationRecord, IterationSettings};
+
+/// The end at the iteration limit: `NotConverged`, or `StiffJoint` when the
+/// joint with the largest residual `f` is much stiffer than its elements.
+pub(super) fn not_converged(
+    setup: &Setup,
+    f: &[f64],
+    settings: &IterationSettings,
+    history: Vec<IterationRecord>,
+) -> IterationError {
+    let last = history.last().copied();
+    let ratio = last.map_or(f64::NAN, |r| r.ratio);
+    let worst = worst_joint(setup, f);
+    let stiffness = joint_stiffness_ratio(setup, worst);
+    if stiffness > STIFF_JOINT {
+        return IterationError::StiffJoint {
+            joint: setup
+                .model
+                .mesh
+                .joints
+                .get(worst)
+                .map_or_else(|| "?".into(), |j| j.name.clone()),
+            stiffness,
+            reason: format!(
+                "the iteration limit ({}) was reached at residual ratio {ratio:.3e} > epsilon {:.1e}",
+                settings.max_iterations, settings.epsilon
+            ),
+            iteration: last.map_or(0, |r| r.iteration),
+            history,
+        };
+    }
+    IterationError::NotConverged {
+        iterations: history.len() as u32,
+        ratio,
+        epsilon: settings.epsilon,
+        history,
+    }
+}
+
+/// The joint that carries most of a section-force residual `f`.
+fn worst_joint(setup: &Setup, f: &[f64]) -> usize {
+    let n_j = setup.joint_nodes.len();
+    let mut per_joint = vec![0.0f64; setup.model.mesh.joints.len()];
+    for (i, info) in setup.points.iter().enumerate() {
+        for &j in &setup.local[i] {
+            for s in 0..setup.sections.len() {
+                for c in 0..3 {
+                    per_joint[info.joint] += f.get(s * 3 * n_j + 3 * j + c).map_or(0.0, |v| v * v);
+                }
+            }
+        }
+    }
+    per_joint
+        .iter()
+        .enumerate()
+        .max_by(|a, b| a.1.total_cmp(b.1))
+        .map_or(0, |(j, _)| j)
+}
+
+/// The no-equilibrium reason when the released forces x have grown so far
+/// that rounding hides a residual ratio of epsilon: `Psi(x) - x` is a
+/// difference of numbers of size |x|, so below `64 eps_mach max_s |x_s|` a
+/// "converged" ratio (even an exact 0) is noise. An extrapolating method
+/// (Anderson, Newton) chasing an equilibrium that does not exist reaches
+/// this; a solution that exists has released forces of the order of the
+/// joint forces.
+pub(super) fn unresolved(setup: &Setup, x: &[f64], psi0: f64, epsilon: f64) -> Option<String> {
+    let x_max = setup.section_max(x);
+    (64.0 * f64::EPSILON * x_max > epsilon * psi0).then(|| {
+        format!(
+            "the released forces grew to {:.1e} times the first release, where rounding hides a residual ratio of epsilon = {epsilon:.0e}: they grow without bound (the joints cannot carry the load), or epsilon is below what the arithmetic resolves",
+            x_max / psi0
+        )
+    })
+}
+
+/// The limit of the residual-ratio sequence predicted from its decrease over
+/// the last two windows of `w` iterations (geometric fit): 0 for geometric
+/// convergence, about half the current ratio for the slow hyperbolic
+/// convergence the paper reports, and the positive limit the ratio settles
+/// to when no equilibrium exists. `None` until there are 3w + 1 values or
+/// while the ratio does not decrease steadily.
+pub(super) fn residual_limit(history: &[IterationRecord], w: u32) -> Option<f64> {
+    let w = w.max(2) as usize;
+    let n = history.len();
+    if n < 3 * w + 1 {
+        return None;
+    }
+    // Window minima damp the oscillations of the accelerated iteration.
+    let min = |a: usize, b: usize| {
+        history[a..b]
+            .iter()
+            .map(|r| r.ratio)
+            .fold(f64::INFINITY, f64::min)
+    };
+    let (r0, r1, r2) = (min(n - 3 * w, n - 2 * w), min(n - 2 * w, n - w), min(n - w, n));
+    let (d1, d2) = (r0 - r1, r1 - r2);
+    if !(d1 > 0.0 && d2 > 0.0 && d2 < d1) {
+        return None;
+    }
+    let q = d2 / d1;
+    Some(r2 - d2 * q / (1.0 - q))
+}
+
+/// Largest `k h / E` of joint `j`: its largest spring stiffness times its
+/// mean element length over the smallest Young's modulus of its bodies.
+fn joint_stiffness_ratio(setup: &Setup, j: usize) -> f64 {
+    let model = setup.model;
+    let (Some(joint), Some(props)) = (model.mesh.joints.get(j), model.joints.get(j)) else {
+        return 0.0;
+    };
+    let k = props
+        .springs
+        .k_xi
+        .max(props.springs.k_eta)
+        .max(props.springs.k_theta);
+    let n = joint.elements.len().max(1) as f64;
+    let h: f64 = joint
+        .elements
+        .iter()
+        .map(|e| {
+            let (a, b) = (model.mesh.nodes[e.bottom[0]], model.mesh.nodes[e.bottom[1]]);
+            (b[0] - a[0]).hypot(b[1] - a[1])
+        })
+        .sum::<f64>()
+        / n;
+    let e = joint
+        .bottom_bodies
+        .iter()
+        .chain(&joint.top_bodies)
+        .map(|&b| model.materials[b].e)
+        .fold(f64::INFINITY, f64::min);
+    if e.is_finite() && e > 0.0 {
+        k * h / e
+    } else {
+        0.0
+    }
+}
+
+/// `k h / E` above which a stall is blamed on the joint's stiffness: every
+/// method converged on Scene P up to 1 and stalled at 12.5 (case 3 of
+/// crates/solver/tests/stability.rs).
+const STIFF_JOINT: f64 = 5.0;
+
+/// The no-equilibrium error, naming the joint with the largest residual `f`.
+pub(super) fn no_equilibrium(
+    setup: &Setup,
+    f: &[f64],
+    reason: &str,
+    last: IterationRecord,
+    history: Vec<IterationRecord>,
+) -> IterationError {
+    let mesh = &setup.model.mesh;
+    let worst = worst_joint(setup, f);
+    let joint = mesh
+        .joints
+        .get(worst)
+        .map_or_else(|| "?".into(), |j| j.name.clone());
+    // A joint much stiffer than its bodies (k h / E >> 1) makes every
+    // method crawl (docs/stability.md, case 3), which looks like no
+    // equilibrium: not reported as one.
+    let stiffness = joint_stiffness_ratio(setup, worst);
+    if stiffness > STIFF_JOINT {
+        return IterationError::StiffJoint {
+            joint,
+            stiffness,
+            reason: reason.to_string(),
+            iteration: last.iteration,
+            history,
+        };
+    }
+    IterationError::NoEquilibrium {
+        joint,
+        reason: reason.to_string(),
+        open: last.open,
+        slip: last.slip,
+        total: last.open + last.slip + last.stick,
+        iteration: last.iteration,
+        history,
+    }
+}

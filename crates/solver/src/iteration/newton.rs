@@ -1,0 +1,389 @@
+//! Semi-smooth Newton-Krylov on `R(x) = Psi(x) - x = 0` ([`newton`]) and
+//! its Krylov solver ([`Krylov`]).
+
+use super::diagnosis::{no_equilibrium, not_converged, unresolved};
+use super::release::Tangent;
+use super::setup::{JointAmplitudes, Setup};
+use super::{axpy, dot, norm, IterationError, IterationRecord, IterationSettings, Outcome};
+use std::collections::VecDeque;
+use std::time::Instant;
+
+/// Newton steps without a 1 % decrease of `|R|` before no equilibrium is
+/// reported (measured on the block torsion beyond capacity: 10 to 22 steps,
+/// 15 to 25 sweeps from 1.01 to 2 T_max).
+const NEWTON_STALL: u32 = 8;
+
+/// The range of the Eisenstat-Walker forcing term (measured on Scene P:
+/// an upper bound of 0.5 or 0.1 instead of 0.3 costs 0 to 3 more sweeps).
+const NEWTON_ETA_MIN: f64 = 1e-3;
+const NEWTON_ETA_MAX: f64 = 0.3;
+
+/// Halvings of the Newton step before the plain step is taken instead
+/// (lambda >= 1/32: a smaller one means a joint point switches state just
+/// ahead, where the linearization says nothing, and accepting tiny steps
+/// only creeps along the switching surface).
+const NEWTON_HALVINGS: u32 = 5;
+
+/// Pairs `(z, W z)` the Newton iteration has paid a sweep for, kept across
+/// its steps (W does not depend on the joint states), and the scratch of
+/// the Krylov solve. Memory: `3 (KEEP + INNER)` vectors of x's length.
+struct Krylov {
+    /// Directions z (oldest first) and their images `W z`.
+    z: VecDeque<Vec<f64>>,
+    w: VecDeque<Vec<f64>>,
+    /// Orthonormal `J p` of this step and their raw coefficients
+    /// (`p_j = sum_i t_j[i] z_i`).
+    q: Vec<Vec<f64>>,
+    t: Vec<Vec<f64>>,
+    /// Buffers to reuse.
+    spare: Vec<Vec<f64>>,
+}
+
+impl Krylov {
+    /// Pairs kept from one Newton step to the next.
+    const KEEP: usize = 30;
+    /// New directions per step at most (GMRES(30)-like memory).
+    const INNER: usize = 30;
+
+    fn new() -> Self {
+        Krylov {
+            z: VecDeque::new(),
+            w: VecDeque::new(),
+            q: Vec::new(),
+            t: Vec::new(),
+            spare: Vec::new(),
+        }
+    }
+
+    fn buffer(&mut self, n: usize) -> Vec<f64> {
+        let mut v = self.spare.pop().unwrap_or_default();
+        v.clear();
+        v.resize(n, 0.0);
+        v
+    }
+
+    /// Adds a pair paid for elsewhere (e.g. a plain step's sweep).
+    fn push(&mut self, z: Vec<f64>, w: Vec<f64>) {
+        self.z.push_back(z);
+        self.w.push_back(w);
+    }
+
+    /// Adds raw direction `i` to the orthonormal set of this step:
+    /// `q = D w_i - z_i` (no sweep) orthogonalized (modified Gram-Schmidt,
+    /// twice) against the previous q; returns whether it was independent.
+    fn orthogonalize(
+        &mut self,
+        setup: &Setup,
+        tangents: &[Tangent],
+        i: usize,
+        r: &mut [f64],
+        c: &mut [f64],
+    ) -> bool {
+        let n = r.len();
+        let width = Self::KEEP + Self::INNER + 1;
+        let mut q = self.buffer(n);
+        setup.apply_tangent(tangents, &self.w[i], &mut q);
+        axpy(-1.0, &self.z[i], &mut q);
+        let mut t = self.buffer(width);
+        t[i] = 1.0;
+        let before = norm(&q);
+        for _ in 0..2 {
+            for (qj, tj) in self.q.iter().zip(&self.t) {
+                let h = dot(qj, &q);
+                axpy(-h, qj, &mut q);
+                axpy(-h, tj, &mut t);
+            }
+        }
+        let nq = norm(&q);
+        if nq <= 1e-10 * before || !nq.is_finite() {
+            self.spare.push(q);
+            self.spare.push(t);
+            return false;
+        }
+        for v in q.iter_mut().chain(t.iter_mut()) {
+            *v /= nq;
+        }
+        let alpha = dot(&q, r);
+        axpy(-alpha, &q, r);
+        axpy(alpha, &t, c);
+        self.q.push(q);
+        self.t.push(t);
+        true
+    }
+
+    /// Solves `J delta = -R` (`J = D W - I`, D from `tangents`) to
+    /// `|R + J delta| <= eta |R|` by GCR (minimal residual; in exact
+    /// arithmetic GMRES) over the kept directions (free: their `W z` is
+    /// known) and at most [`Krylov::INNER`] new ones `z = r / |r|` (one
+    /// sweep each, at most `budget`). Writes `delta` and `W delta`; returns
+    /// the sweeps paid.
+    #[allow(clippy::too_many_arguments)]
+    fn solve(
+        &mut self,
+        setup: &Setup,
+        tangents: &[Tangent],
+        residual: &[f64],
+        eta: f64,
+        budget: u32,
+        released: &mut JointAmplitudes,
+        delta: &mut [f64],
+        w_delta: &mut [f64],
+    ) -> u32 {
+        let n = residual.len();
+        while self.z.len() > Self::KEEP {
+            if let (Some(z), Some(w)) = (self.z.pop_front(), self.w.pop_front()) {
+                self.spare.push(z);
+                self.spare.push(w);
+            }
+        }
+        let (q, t) = (std::mem::take(&mut self.q), std::mem::take(&mut self.t));
+        self.spare.extend(q.into_iter().chain(t));
+        let mut r = self.buffer(n);
+        for (ri, v) in r.iter_mut().zip(residual) {
+            *ri = -v;
+        }
+        let target = eta * norm(residual);
+        let mut c = vec![0.0; Self::KEEP + Self::INNER + 1];
+        for i in 0..self.z.len() {
+            self.orthogonalize(setup, tangents, i, &mut r, &mut c);
+        }
+        let mut sweeps = 0;
+        while norm(&r) > target && sweeps < Self::INNER.min(budget as usize) as u32 {
+            let nr = norm(&r);
+            let mut z = self.buffer(n);
+            for (zi, ri) in z.iter_mut().zip(&r) {
+                *zi = ri / nr;
+            }
+            let mut w = self.buffer(n);
+            setup.apply_w(&z, released, &mut w);
+            sweeps += 1;
+            self.push(z, w);
+            if !self.orthogonalize(setup, tangents, self.z.len() - 1, &mut r, &mut c) {
+                break;
+            }
+        }
+        delta.fill(0.0);
+        w_delta.fill(0.0);
+        for (i, (z, w)) in self.z.iter().zip(&self.w).enumerate() {
+            if c[i] != 0.0 {
+                axpy(c[i], z, delta);
+                axpy(c[i], w, w_delta);
+            }
+        }
+        self.spare.push(r);
+        sweeps
+    }
+}
+
+/// Semi-smooth Newton-Krylov on `R(x) = Psi(x) - x = 0`.
+///
+/// With `u_s(x) = u_F + W x` the section displacements (W = S K^-1 A, linear
+/// and the same for every joint state) and the release acting point by point,
+/// `Psi(x) = g(u_F + W x)` and the generalized Jacobian is
+/// `J = D(x) W - I`, D the joint tangent per (section, point) at the states
+/// of x ([`release_tangent`](super::release::release_tangent): open releases the whole trial-traction
+/// increment, stick nothing, slip the tangent of the radial return). It is
+/// the coupled tangent stiffness `K - A D S` right-preconditioned by the
+/// elastic block-diagonal K: `(K - A D S) K^-1 = I - A (D S K^-1)` and
+/// `-J = I - (D S K^-1) A` have the same eigenvalues apart from 1s:
+/// the joint tangent couples the harmonics, only the elastic factors are
+/// ever used.
+///
+/// Each step: (1) solve `J delta = -R` by GCR to the Eisenstat-Walker
+/// tolerance eta (choice 2, `eta_k = 0.9 (|R_k| / |R_{k-1}|)^2`, safeguarded,
+/// in `[1e-3, 0.3]`, no tighter than the target needs); every `W z` the
+/// solve pays a sweep for is kept, and the kept pairs span the next step's
+/// first directions at no cost (`J z = D (W z) - z`); (2) backtrack
+/// `x + lambda delta` (lambda = 1, 1/2, ..., 1/32) until `|R|_2` decreases
+/// by the Armijo factor `1 - 1e-4 lambda`: since
+/// `u_s(x + lambda delta) = u_s(x) + lambda W delta` with `W delta` known,
+/// these trial evaluations of `Psi` cost no sweep; (3) if none decreases
+/// `|R|` (a joint point switches state just ahead: the law is only
+/// piecewise smooth, and discontinuous where a cohesive joint opens), take
+/// the plain step `x + R` with a true evaluation (one sweep; its pair
+/// `(R, W R)` is kept too). A ratio below epsilon is confirmed by a true
+/// evaluation (one sweep), which also gives the displacement amplitudes.
+///
+/// No equilibrium: when the load exceeds what the joints carry, the points
+/// along the unbalanced force all slip or open, the tangent releases the
+/// whole increment along it (J is singular there), the Newton step the
+/// linearization asks for does not reduce `|R|`, and the plain fallback
+/// steps leave the unbalanced part of R unchanged. Reported when `|R|` has
+/// made no new minimum by 1 % within [`NEWTON_STALL`] steps, when the
+/// released forces outgrow what the residual can resolve ([`unresolved`]),
+/// or when the residual grows past 1e6 Psi_0.
+pub(super) fn newton(
+    setup: &Setup,
+    settings: &IterationSettings,
+    progress: &mut dyn FnMut(&IterationRecord),
+) -> Result<Outcome, IterationError> {
+    let start = Instant::now();
+    let nx = setup.len();
+    let mut released = setup.zero_loads();
+    let mut acc = setup.new_eval();
+    let mut trial = setup.new_eval();
+    let mut x = vec![0.0; nx];
+    let mut x_trial = vec![0.0; nx];
+    let mut delta = vec![0.0; nx];
+    let mut w_delta = vec![0.0; nx];
+    let mut tangents: Vec<Tangent> = vec![None; setup.n_pairs()];
+    let mut krylov = Krylov::new();
+
+    // The elastic solve.
+    setup.evaluate(&x, &mut released, &mut acc);
+    // Whether `acc` is a true evaluation at x (not a linearized trial).
+    let mut evaluated;
+    let mut res: Vec<f64> = acc.g.iter().zip(&x).map(|(a, b)| a - b).collect();
+    let mut res_trial = vec![0.0; nx];
+    let psi0 = setup.section_max(&res);
+    let nothing_released = psi0 <= 1e-14 * setup.load_scale().max(f64::MIN_POSITIVE);
+    let record = setup.record(1, if nothing_released { 0.0 } else { 1.0 }, &acc, start, 1);
+    progress(&record);
+    let mut history = vec![record];
+    if !psi0.is_finite() {
+        return Err(no_equilibrium(
+            setup,
+            &res,
+            "the solution is not finite",
+            record,
+            history,
+        ));
+    }
+    if nothing_released {
+        return Ok(setup.finish(&x, acc, history));
+    }
+
+    let mut total = 1u32;
+    let mut r_norm = norm(&res);
+    let (mut r_prev, mut eta) = (r_norm, 0.5f64);
+    let (mut best, mut best_at) = (r_norm, 1u32);
+    let eta_floor = 0.5 * settings.epsilon * psi0;
+    // Whether each of the last steps fell back to the plain step.
+    let mut fallbacks = VecDeque::new();
+    for step in 2..=settings.max_iterations {
+        // (1) The Newton direction.
+        setup.tangents(&acc, &mut tangents);
+        if step > 2 {
+            let ew = 0.9 * (r_norm / r_prev).powi(2);
+            let safe = 0.9 * eta * eta;
+            eta = if safe > 0.1 { ew.max(safe) } else { ew };
+        }
+        eta = eta.clamp(NEWTON_ETA_MIN, NEWTON_ETA_MAX).max(eta_floor / r_norm);
+        let budget = settings.max_iterations.saturating_sub(total + 1);
+        let mut sweeps = krylov.solve(
+            setup,
+            &tangents,
+            &res,
+            eta,
+            budget,
+            &mut released,
+            &mut delta,
+            &mut w_delta,
+        );
+
+        // (2) Backtracking on |R|, the trial evaluations without a sweep.
+        let mut lambda = 1.0;
+        let mut accepted = false;
+        for _ in 0..=NEWTON_HALVINGS {
+            for i in 0..nx {
+                x_trial[i] = x[i] + lambda * delta[i];
+                trial.u_s[i] = acc.u_s[i] + lambda * w_delta[i];
+            }
+            trial.broken.copy_from_slice(&acc.broken);
+            setup.release_all(&mut trial);
+            for i in 0..nx {
+                res_trial[i] = trial.g[i] - x_trial[i];
+            }
+            if norm(&res_trial) <= (1.0 - 1e-4 * lambda) * r_norm {
+                accepted = true;
+                break;
+            }
+            lambda *= 0.5;
+        }
+        fallbacks.push_back(!accepted);
+        if fallbacks.len() > NEWTON_STALL as usize {
+            fallbacks.pop_front();
+        }
+        if accepted {
+            evaluated = false;
+        } else {
+            // (3) The plain step, evaluated for real; its pair is kept.
+            for i in 0..nx {
+                x_trial[i] = x[i] + res[i];
+            }
+            trial.broken.copy_from_slice(&acc.broken);
+            setup.evaluate(&x_trial, &mut released, &mut trial);
+            evaluated = true;
+            sweeps += 1;
+            let mut w = krylov.buffer(nx);
+            for ((wi, a), b) in w.iter_mut().zip(&trial.u_s).zip(&acc.u_s) {
+                *wi = a - b;
+            }
+            let mut z = krylov.buffer(nx);
+            z.copy_from_slice(&res);
+            krylov.push(z, w);
+            for i in 0..nx {
+                res_trial[i] = trial.g[i] - x_trial[i];
+            }
+        }
+        std::mem::swap(&mut acc, &mut trial);
+        std::mem::swap(&mut x, &mut x_trial);
+        std::mem::swap(&mut res, &mut res_trial);
+        r_prev = r_norm;
+        r_norm = norm(&res);
+        let mut ratio = setup.section_max(&res) / psi0;
+        if ratio < settings.epsilon && !evaluated {
+            // Confirm with a true evaluation.
+            setup.evaluate(&x, &mut released, &mut acc);
+            evaluated = true;
+            sweeps += 1;
+            for i in 0..nx {
+                res[i] = acc.g[i] - x[i];
+            }
+            r_norm = norm(&res);
+            ratio = setup.section_max(&res) / psi0;
+        }
+        total += sweeps;
+        let record = setup.record(step, ratio, &acc, start, sweeps);
+        progress(&record);
+        history.push(record);
+        if !ratio.is_finite() || !r_norm.is_finite() {
+            return Err(no_equilibrium(
+                setup,
+                &res,
+                "the solution is not finite",
+                record,
+                history,
+            ));
+        }
+        if let Some(reason) = unresolved(setup, &x, psi0, settings.epsilon) {
+            return Err(no_equilibrium(setup, &res, &reason, record, history));
+        }
+        if ratio < settings.epsilon && evaluated {
+            return Ok(setup.finish(&x, acc, history));
+        }
+
+        // No equilibrium.
+        let reason = if r_norm < 0.99 * best {
+            best = r_norm;
+            best_at = step;
+            None
+        } else if step - best_at >= NEWTON_STALL {
+            Some(format!(
+                "the Newton residual stalls at ratio {ratio:.3e} (|R| made no new minimum by 1 % in {NEWTON_STALL} steps, {} of which fell back to the plain step: the joint tangent has (almost) no stiffness left along the unbalanced force, and the step the linearization asks for does not reduce the residual)",
+                fallbacks.iter().filter(|&&f| f).count()
+            ))
+        } else {
+            None
+        };
+        let reason =
+            reason.or_else(|| (ratio > 1e6).then(|| format!("the residual grows (ratio {ratio:.3e})")));
+        if let Some(reason) = reason {
+            return Err(no_equilibrium(setup, &res, &reason, record, history));
+        }
+        if total >= settings.max_iterations {
+            break;
+        }
+    }
+    Err(not_converged(setup, &res, settings, history))
+}

@@ -1,0 +1,288 @@
+//! The joint law at the sections: the released forces of one evaluation
+//! ([`Eval`]) and the joint tangent of the release ([`release_tangent`]).
+
+use super::setup::Setup;
+use crate::elements::{add_traction_forces, relative_displacement, JointSprings};
+use crate::joint_law::{admissible, JointState};
+use crate::scene::{JointLaw, ShearCheck};
+use rayon::prelude::*;
+
+/// One evaluation of `Psi`: the joint-node displacements at the sections
+/// `u_s`, the released section forces `g = Psi(x)`, and the joint field
+/// (index `s * n_points + p`) with the tensile-break memory after it.
+#[derive(Clone)]
+pub(super) struct Eval {
+    pub(super) u_s: Vec<f64>,
+    pub(super) g: Vec<f64>,
+    pub(super) d: Vec<[f64; 3]>,
+    pub(super) p: Vec<[f64; 3]>,
+    pub(super) state: Vec<JointState>,
+    pub(super) broken: Vec<bool>,
+}
+
+/// The joint tangent at one (section, point): the derivative of the
+/// released traction `k d - P(k d)` with respect to the trial traction
+/// `k d`; `None` for a sticking point (nothing released, derivative 0).
+pub(super) type Tangent = Option<[[f64; 3]; 3]>;
+
+/// The derivative of the released traction `e(t) = t - P(t)` of
+/// [`admissible`] (t the trial traction `k d`) at the state it gave:
+///
+/// - stick: `de = 0`;
+/// - open: `de = dt` (the whole trial traction is released);
+/// - slip, resultant check: `P_t = tau_y n`, `n = t_s / |t_s|` (t_s the shear
+///   pair `(t_xi, t_theta)`), `f = tau_y / |t_s|`,
+///   `de_s = (1 - f) dt_s + n (f n.dt_s + tan(phi) dsigma)`, `de_sigma = 0`
+///   (the `tan(phi)` term only while `tau_y = C - sigma tan(phi) > 0`);
+/// - slip, component check: a clamped component `c` has
+///   `de_c = dt_c + sign(t_c) tan(phi) dsigma`, an unclamped one `de_c = 0`.
+///
+/// The law is piecewise smooth; on a switching surface this is the
+/// derivative of the piece `admissible` chose (an element of the
+/// generalized Jacobian: semi-smooth Newton).
+pub(super) fn release_tangent(law: &JointLaw, trial: [f64; 3], state: JointState) -> Tangent {
+    const I: [[f64; 3]; 3] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    match state {
+        JointState::Stick => None,
+        JointState::Open => Some(I),
+        JointState::Slip => {
+            let JointLaw::MohrCoulomb(mc) = law else {
+                return None;
+            };
+            let sigma = trial[1];
+            let tan_phi = mc.tan_phi();
+            let strength = mc.cohesion - sigma * tan_phi;
+            let tau_y = strength.max(0.0);
+            let tan = if strength > 0.0 { tan_phi } else { 0.0 };
+            match mc.shear_check {
+                ShearCheck::Resultant => {
+                    let tau = trial[0].hypot(trial[2]);
+                    if tau <= 0.0 {
+                        return None;
+                    }
+                    let (n0, n2) = (trial[0] / tau, trial[2] / tau);
+                    let f = tau_y / tau;
+                    Some([
+                        [1.0 - f + f * n0 * n0, n0 * tan, f * n0 * n2],
+                        [0.0; 3],
+                        [f * n0 * n2, n2 * tan, 1.0 - f + f * n2 * n2],
+                    ])
+                }
+                ShearCheck::Components => {
+                    let row = |c: usize| {
+                        let t = trial[c];
+                        if t.abs() > tau_y {
+                            let mut r = [0.0; 3];
+                            r[c] = 1.0;
+                            r[1] = t.signum() * tan;
+                            r
+                        } else {
+                            [0.0; 3]
+                        }
+                    };
+                    Some([row(0), [0.0; 3], row(2)])
+                }
+            }
+        }
+    }
+}
+
+impl Setup<'_> {
+    /// Evaluates the law at every point of section `s`; returns the released
+    /// joint-node forces (per radian) into `g`, and the field values.
+    #[allow(clippy::too_many_arguments)]
+    fn release(
+        &self,
+        u_s: &[f64],
+        broken: &mut [bool],
+        g: &mut [f64],
+        d_out: &mut [[f64; 3]],
+        p_out: &mut [[f64; 3]],
+        st_out: &mut [JointState],
+    ) {
+        g.fill(0.0);
+        let mut ue = [0.0; 18];
+        let mut fe = [0.0; 18];
+        for (i, info) in self.points.iter().enumerate() {
+            let nl = &self.local[i];
+            for (a, &j) in nl.iter().enumerate() {
+                ue[3 * a..3 * a + 3].copy_from_slice(&u_s[3 * j..3 * j + 3]);
+            }
+            let springs = self.model.joints[info.joint].springs;
+            let d = relative_displacement(&info.point, &ue[..3 * nl.len()]);
+            let (p, state) = admissible(&self.laws[info.joint], &springs, d, &mut broken[i]);
+            let trial = springs.traction(d);
+            let excess = [trial[0] - p[0], trial[1] - p[1], trial[2] - p[2]];
+            if excess != [0.0; 3] {
+                fe[..3 * nl.len()].fill(0.0);
+                add_traction_forces(&info.point, excess, 1.0, &mut fe[..3 * nl.len()]);
+                for (a, &j) in nl.iter().enumerate() {
+                    for c in 0..3 {
+                        g[3 * j + c] += fe[3 * a + c];
+                    }
+                }
+            }
+            d_out[i] = d;
+            p_out[i] = p;
+            st_out[i] = state;
+        }
+    }
+
+    /// The release at every section from `ev.u_s`: `ev.g = release(u_s)`,
+    /// the field and the break memory (updated in place).
+    pub(super) fn release_all(&self, ev: &mut Eval) {
+        let n_p = self.points.len().max(1);
+        let Eval {
+            u_s,
+            g,
+            d,
+            p,
+            state,
+            broken,
+        } = ev;
+        let u_s = &*u_s;
+        let m = self.per_section();
+        g.par_chunks_mut(m)
+            .zip(broken.par_chunks_mut(n_p))
+            .zip(d.par_chunks_mut(n_p))
+            .zip(p.par_chunks_mut(n_p))
+            .zip(state.par_chunks_mut(n_p))
+            .enumerate()
+            .for_each(|(s, ((((gs, bs), ds), ps), sts))| {
+                self.release(&u_s[s * m..(s + 1) * m], bs, gs, ds, ps, sts)
+            });
+    }
+
+    /// The joint tangent of every (section, point) at the states of `ev`.
+    pub(super) fn tangents(&self, ev: &Eval, out: &mut [Tangent]) {
+        let n_p = self.points.len().max(1);
+        out.par_chunks_mut(n_p).enumerate().for_each(|(s, ts)| {
+            for (i, (t, info)) in ts.iter_mut().zip(&self.points).enumerate() {
+                let k = s * self.points.len() + i;
+                let springs = self.model.joints[info.joint].springs;
+                *t = release_tangent(&self.laws[info.joint], springs.traction(ev.d[k]), ev.state[k]);
+            }
+        });
+    }
+
+    /// `out = D du_s`: the released section forces of the displacement
+    /// increment `du_s` through the joint tangents (no solve).
+    pub(super) fn apply_tangent(&self, tangents: &[Tangent], du_s: &[f64], out: &mut [f64]) {
+        let m = self.per_section();
+        let n_p = self.points.len();
+        out.par_chunks_mut(m).enumerate().for_each(|(s, os)| {
+            os.fill(0.0);
+            let du = &du_s[s * m..(s + 1) * m];
+            let mut ue = [0.0; 18];
+            let mut fe = [0.0; 18];
+            for (i, info) in self.points.iter().enumerate() {
+                let Some(t) = tangents[s * n_p + i] else {
+                    continue;
+                };
+                let nl = &self.local[i];
+                for (a, &j) in nl.iter().enumerate() {
+                    ue[3 * a..3 * a + 3].copy_from_slice(&du[3 * j..3 * j + 3]);
+                }
+                let springs: JointSprings = self.model.joints[info.joint].springs;
+                let dt = springs.traction(relative_displacement(&info.point, &ue[..3 * nl.len()]));
+                let de = [0, 1, 2].map(|r| t[r][0] * dt[0] + t[r][1] * dt[1] + t[r][2] * dt[2]);
+                if de != [0.0; 3] {
+                    fe[..3 * nl.len()].fill(0.0);
+                    add_traction_forces(&info.point, de, 1.0, &mut fe[..3 * nl.len()]);
+                    for (a, &j) in nl.iter().enumerate() {
+                        for c in 0..3 {
+                            os[3 * j + c] += fe[3 * a + c];
+                        }
+                    }
+                }
+            }
+        });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::MohrCoulomb;
+
+    fn law(c: f64, phi: f64, check: ShearCheck) -> JointLaw {
+        JointLaw::MohrCoulomb(MohrCoulomb {
+            cohesion: c,
+            friction_deg: phi,
+            tensile_strength: 0.0,
+            shear_check: check,
+        })
+    }
+
+    /// The released traction `t - P(t)` with unit springs (d = t).
+    fn excess(law: &JointLaw, t: [f64; 3]) -> ([f64; 3], JointState) {
+        let k = JointSprings {
+            k_xi: 1.0,
+            k_eta: 1.0,
+            k_theta: 1.0,
+        };
+        let (p, state) = admissible(law, &k, t, &mut false);
+        ([t[0] - p[0], t[1] - p[1], t[2] - p[2]], state)
+    }
+
+    /// [`release_tangent`] against central differences of [`admissible`],
+    /// away from the switching surfaces, for every state and check.
+    #[test]
+    fn release_tangent_is_the_derivative_of_the_law() {
+        let cases = [
+            (
+                law(0.5, 30.0, ShearCheck::Resultant),
+                [0.3, -1.0, 0.2],
+                JointState::Stick,
+            ),
+            (
+                law(0.5, 30.0, ShearCheck::Resultant),
+                [0.8, 0.2, -0.3],
+                JointState::Open,
+            ),
+            (
+                law(0.5, 30.0, ShearCheck::Resultant),
+                [1.2, -0.4, -0.7],
+                JointState::Slip,
+            ),
+            (
+                law(0.0, 0.0, ShearCheck::Resultant),
+                [1.2, -0.4, -0.7],
+                JointState::Slip,
+            ),
+            // C - sigma tan(phi) < 0 is impossible for sigma <= 0 with C >= 0;
+            // a zero strength at sigma < 0 comes from C = 0, phi = 0 above.
+            (
+                law(0.5, 30.0, ShearCheck::Components),
+                [1.2, -0.4, 0.1],
+                JointState::Slip,
+            ),
+            (
+                law(0.5, 30.0, ShearCheck::Components),
+                [-1.2, -0.4, 0.9],
+                JointState::Slip,
+            ),
+        ];
+        for (law, t, expect) in cases {
+            let (_, state) = excess(&law, t);
+            assert_eq!(state, expect, "{t:?}");
+            let tangent = release_tangent(&law, t, state).unwrap_or([[0.0; 3]; 3]);
+            let h = 1e-6;
+            for j in 0..3 {
+                let (mut a, mut b) = (t, t);
+                a[j] += h;
+                b[j] -= h;
+                let ((ea, sa), (eb, sb)) = (excess(&law, a), excess(&law, b));
+                assert_eq!((sa, sb), (state, state));
+                for i in 0..3 {
+                    let fd = (ea[i] - eb[i]) / (2.0 * h);
+                    assert!(
+                        (fd - tangent[i][j]).abs() < 1e-8,
+                        "{state:?} {t:?}: d e_{i} / d t_{j} = {} vs {fd}",
+                        tangent[i][j]
+                    );
+                }
+            }
+        }
+    }
+}

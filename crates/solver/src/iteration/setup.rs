@@ -1,0 +1,503 @@
+//! The fixed data of an iteration ([`Setup`]): the joint points and nodes,
+//! the basis tables, the elastic solution; the synthesis at the sections, the
+//! analysis into harmonics, the back-substitution sweeps and one evaluation
+//! of `Psi`; and [`FixedPoint`], the same evaluation for tests and
+//! diagnostics.
+
+use super::release::Eval;
+use super::{IterationError, IterationRecord, JointField, Outcome, PointInfo};
+use crate::elements::joint_points;
+use crate::fourier::{Family, Sections};
+use crate::joint_law::JointState;
+use crate::linear::{HarmonicFactor, Model};
+use crate::loads::HarmonicLoads;
+use crate::scene::JointLaw;
+use crate::solution::{Displacements, HarmonicDisplacement};
+use rayon::prelude::*;
+use std::time::Instant;
+
+/// Joint-node values per harmonic, `[symmetric, antisymmetric]`, each
+/// `3 * joint nodes` (the node order of [`Model::joint_nodes`]).
+pub(super) type JointAmplitudes = Vec<[Vec<f64>; 2]>;
+
+/// The fixed data of an iteration: points, joint nodes, basis tables.
+pub(super) struct Setup<'a> {
+    pub(super) model: &'a Model,
+    pub(super) laws: &'a [JointLaw],
+    pub(super) sections: &'a Sections,
+    loads: &'a [HarmonicLoads],
+    factor_of: Vec<&'a HarmonicFactor>,
+    pub(super) points: Vec<PointInfo>,
+    /// Joint nodes (global indices) and each point's nodes in that list.
+    pub(super) joint_nodes: Vec<usize>,
+    pub(super) local: Vec<Vec<usize>>,
+    /// `phi[(s * n_h + h) * 2 + family] = (phi_rz, phi_theta)`.
+    phi: Vec<(f64, f64)>,
+    n_h: usize,
+    /// The joint-node amplitudes of the elastic solution `K^-1 F`.
+    u0: JointAmplitudes,
+    /// Whether harmonic h has an antisymmetric family to solve.
+    both: Vec<bool>,
+}
+
+impl<'a> Setup<'a> {
+    /// Checks the harmonics and sections and collects the joint points.
+    pub(super) fn new(
+        model: &'a Model,
+        factors: &'a [HarmonicFactor],
+        loads: &'a [HarmonicLoads],
+        laws: &'a [JointLaw],
+        sections: &'a Sections,
+        elastic: Option<&Displacements>,
+    ) -> Result<Self, IterationError> {
+        let mesh = &model.mesh;
+        let n = mesh.nodes.len();
+        let factor_of: Vec<&HarmonicFactor> = loads
+            .iter()
+            .map(|h| {
+                factors
+                    .iter()
+                    .find(|f| f.m == h.m)
+                    .ok_or_else(|| IterationError::Setup(format!("harmonic {} is not factorized", h.m)))
+            })
+            .collect::<Result<_, _>>()?;
+        let torsion = loads
+            .iter()
+            .any(|h| h.m == 0 && h.symmetric.iter().skip(2).step_by(3).any(|&v| v != 0.0));
+        if sections.half && (torsion || loads.iter().any(|h| h.antisymmetric.iter().any(|&v| v != 0.0))) {
+            return Err(IterationError::Setup(
+                "the loads have antisymmetric or torsional content: the sections must cover the full turn"
+                    .into(),
+            ));
+        }
+        // The paper's M + 1 sections resolve harmonics up to M - 1 exactly (the
+        // Nyquist harmonic M aliases); fewer, or uneven ones that resolve less,
+        // are refused.
+        let m_max = loads.iter().map(|h| h.m).max().unwrap_or(0);
+        let resolved = sections.resolves_up_to(m_max);
+        if m_max > 0 && resolved.is_none_or(|r| r + 1 < m_max) {
+            let symmetric = !torsion && loads.iter().all(|h| h.antisymmetric.iter().all(|&v| v == 0.0));
+            let advice = if symmetric {
+                format!(
+                    "give at least {} evenly spaced sections over the half turn (the paper's M + 1), or {} over the full turn",
+                    m_max + 1,
+                    2 * m_max
+                )
+            } else {
+                format!(
+                    "the loads are not symmetric about theta = 0: give at least {} over the full turn (evenly spaced in [0, 360) degrees)",
+                    2 * m_max
+                )
+            };
+            return Err(IterationError::Setup(format!(
+                "the {} sections resolve harmonics only up to {}, not 0..={m_max}: {advice}",
+                sections.len(),
+                resolved.map_or("none".into(), |r| r.to_string()),
+            )));
+        }
+
+        // Points and joint nodes.
+        let mut points = Vec::new();
+        for (j, joint) in mesh.joints.iter().enumerate() {
+            let rule = model.joints[j].rule;
+            for (e, el) in joint.elements.iter().enumerate() {
+                let coords: Vec<[f64; 2]> = el.bottom.iter().map(|&k| mesh.nodes[k]).collect();
+                let nodes: Vec<usize> = el.bottom.iter().chain(&el.top).copied().collect();
+                for point in joint_points(el.kind, &coords, rule) {
+                    points.push(PointInfo {
+                        joint: j,
+                        element: e,
+                        point,
+                        nodes: nodes.clone(),
+                    });
+                }
+            }
+        }
+        let joint_nodes = model.joint_nodes().to_vec();
+        let mut where_ = vec![usize::MAX; n];
+        for (j, &k) in joint_nodes.iter().enumerate() {
+            where_[k] = j;
+        }
+        let local = points
+            .iter()
+            .map(|p| p.nodes.iter().map(|&k| where_[k]).collect())
+            .collect();
+        let n_h = loads.len();
+        let mut phi = Vec::with_capacity(sections.len() * n_h * 2);
+        for &t in &sections.theta {
+            for h in loads {
+                phi.push(sections.phi(h.m, Family::Symmetric, t));
+                phi.push(sections.phi(h.m, Family::Antisymmetric, t));
+            }
+        }
+        // The elastic solution at the joint nodes: given, or one full solve.
+        let both: Vec<bool> = loads.iter().map(|h| h.m > 0 && !sections.half).collect();
+        let u0 = loads
+            .par_iter()
+            .zip(&factor_of)
+            .zip(&both)
+            .map(|((f, factor), &both)| {
+                let given = elastic.and_then(|e| e.harmonics.iter().find(|d| d.m == f.m));
+                let u = if let Some(d) = given {
+                    let mut u = vec![d.symmetric.clone()];
+                    if both {
+                        u.push(d.antisymmetric.clone());
+                    }
+                    u
+                } else if both {
+                    model.solve(factor, &[&f.symmetric, &f.antisymmetric])
+                } else {
+                    model.solve(factor, &[&f.symmetric])
+                };
+                let pick = |k: usize| -> Vec<f64> {
+                    let mut out = vec![0.0; 3 * joint_nodes.len()];
+                    if let Some(u) = u.get(k) {
+                        for (j, &node) in joint_nodes.iter().enumerate() {
+                            out[3 * j..3 * j + 3].copy_from_slice(&u[3 * node..3 * node + 3]);
+                        }
+                    }
+                    out
+                };
+                [pick(0), pick(1)]
+            })
+            .collect();
+        Ok(Setup {
+            model,
+            laws,
+            sections,
+            loads,
+            factor_of,
+            points,
+            joint_nodes,
+            local,
+            phi,
+            n_h,
+            u0,
+            both,
+        })
+    }
+
+    /// Length of a section-force vector x: sections x joint nodes x 3.
+    pub(super) fn len(&self) -> usize {
+        self.sections.len() * 3 * self.joint_nodes.len()
+    }
+
+    /// Values per section (`3 * joint nodes`, at least 1 for chunking).
+    pub(super) fn per_section(&self) -> usize {
+        (3 * self.joint_nodes.len()).max(1)
+    }
+
+    /// Point-sections.
+    pub(super) fn n_pairs(&self) -> usize {
+        self.sections.len() * self.points.len()
+    }
+
+    /// Zero joint-node loads per harmonic (the analysis buffer).
+    pub(super) fn zero_loads(&self) -> JointAmplitudes {
+        let n = 3 * self.joint_nodes.len();
+        self.loads.iter().map(|_| [vec![0.0; n], vec![0.0; n]]).collect()
+    }
+
+    /// Evaluation buffers (no point broken yet).
+    pub(super) fn new_eval(&self) -> Eval {
+        let (nx, np) = (self.len(), self.n_pairs());
+        Eval {
+            u_s: vec![0.0; nx],
+            g: vec![0.0; nx],
+            d: vec![[0.0; 3]; np],
+            p: vec![[0.0; 3]; np],
+            state: vec![JointState::Stick; np],
+            broken: vec![false; np],
+        }
+    }
+
+    fn phi(&self, s: usize, h: usize, family: Family) -> (f64, f64) {
+        self.phi[(s * self.n_h + h) * 2 + family as usize]
+    }
+
+    /// Synthesizes the joint-node displacements at section `s`.
+    fn synthesize(&self, u: &JointAmplitudes, s: usize, out: &mut [f64]) {
+        out.fill(0.0);
+        for (h, hd) in u.iter().enumerate() {
+            for (family, amp) in [(Family::Symmetric, &hd[0]), (Family::Antisymmetric, &hd[1])] {
+                let (a, b) = self.phi(s, h, family);
+                if a == 0.0 && b == 0.0 {
+                    continue;
+                }
+                for (o, v) in out.chunks_exact_mut(3).zip(amp.chunks_exact(3)) {
+                    o[0] += a * v[0];
+                    o[1] += a * v[1];
+                    o[2] += b * v[2];
+                }
+            }
+        }
+    }
+
+    /// Synthesizes the joint-node displacements at every section.
+    fn synthesize_all(&self, u: &JointAmplitudes, u_s: &mut [f64]) {
+        u_s.par_chunks_mut(self.per_section())
+            .enumerate()
+            .for_each(|(s, out)| self.synthesize(u, s, out));
+    }
+
+    /// One sweep: the joint-node displacements `K^-1 (F + A x)`
+    /// (`with_loads`) or `K^-1 A x`, every harmonic with its factor. The
+    /// forces `A x` sit on the joint nodes only: each solve reads only the
+    /// joint block of the factor ([`Model::solve_joint`]).
+    fn solve(&self, x: &[f64], with_loads: bool, released: &mut JointAmplitudes) -> JointAmplitudes {
+        self.analyse(x, released);
+        released
+            .par_iter()
+            .zip(&self.factor_of)
+            .enumerate()
+            .map(|(h, (g, factor))| {
+                let mut u = self.model.solve_joint(factor, &[&g[0], &g[1]]);
+                if !self.both[h] {
+                    u[1].fill(0.0);
+                }
+                if with_loads {
+                    for (uk, u0) in u.iter_mut().zip(&self.u0[h]) {
+                        for (a, b) in uk.iter_mut().zip(u0) {
+                            *a += b;
+                        }
+                    }
+                }
+                u
+            })
+            .collect()
+    }
+
+    /// The displacements of every node for released section forces `x`:
+    /// one full solve of `F + A x` per harmonic.
+    fn full_displacements(&self, x: &[f64]) -> Displacements {
+        let n = self.model.mesh.nodes.len();
+        let mut released = self.zero_loads();
+        self.analyse(x, &mut released);
+        let harmonics = self
+            .loads
+            .par_iter()
+            .zip(&self.factor_of)
+            .zip(&released)
+            .enumerate()
+            .map(|(h, ((f, factor), g))| {
+                let mut loads = [f.symmetric.clone(), f.antisymmetric.clone()];
+                for (vec, gk) in loads.iter_mut().zip(g) {
+                    for (&k, gj) in self.joint_nodes.iter().zip(gk.chunks_exact(3)) {
+                        for c in 0..3 {
+                            vec[3 * k + c] += gj[c];
+                        }
+                    }
+                }
+                if self.both[h] {
+                    let mut u = self.model.solve(factor, &[&loads[0], &loads[1]]);
+                    let antisymmetric = u.pop().unwrap_or_default();
+                    let symmetric = u.pop().unwrap_or_default();
+                    HarmonicDisplacement {
+                        m: f.m,
+                        symmetric,
+                        antisymmetric,
+                    }
+                } else {
+                    let symmetric = self.model.solve(factor, &[&loads[0]]).pop().unwrap_or_default();
+                    HarmonicDisplacement {
+                        m: f.m,
+                        symmetric,
+                        antisymmetric: vec![0.0; 3 * n],
+                    }
+                }
+            })
+            .collect();
+        Displacements { harmonics }
+    }
+
+    /// `Psi(x)` (one sweep): solve for `F + A x`, synthesize, release. The
+    /// break memory `ev.broken` is carried forward. Returns the joint-node
+    /// amplitudes.
+    pub(super) fn evaluate(
+        &self,
+        x: &[f64],
+        released: &mut JointAmplitudes,
+        ev: &mut Eval,
+    ) -> JointAmplitudes {
+        let u = self.solve(x, true, released);
+        self.synthesize_all(&u, &mut ev.u_s);
+        self.release_all(ev);
+        u
+    }
+
+    /// `W v = S K^-1 A v` (one sweep): the section displacements of the
+    /// joint nodes under the section forces `v` alone.
+    pub(super) fn apply_w(&self, v: &[f64], released: &mut JointAmplitudes, out: &mut [f64]) {
+        let u = self.solve(v, false, released);
+        self.synthesize_all(&u, out);
+    }
+
+    /// `|f_m| / c_m` of section forces `x` for m = 0 up to the highest
+    /// harmonic the sections resolve (both families together).
+    fn spectrum(&self, x: &[f64]) -> Vec<f64> {
+        let n_j = self.joint_nodes.len();
+        let top = self.sections.exact_up_to();
+        (0..=top)
+            .map(|m| {
+                let mut sum = 0.0;
+                for family in [Family::Symmetric, Family::Antisymmetric] {
+                    let mut f = vec![0.0; 3 * n_j];
+                    for (s, (&t, &w)) in self.sections.theta.iter().zip(&self.sections.weight).enumerate() {
+                        let (a, b) = self.sections.phi(m, family, t);
+                        let xs = &x[s * 3 * n_j..(s + 1) * 3 * n_j];
+                        for j in 0..n_j {
+                            f[3 * j] += w * a * xs[3 * j];
+                            f[3 * j + 1] += w * a * xs[3 * j + 1];
+                            f[3 * j + 2] += w * b * xs[3 * j + 2];
+                        }
+                    }
+                    sum += f.iter().map(|v| v * v).sum::<f64>();
+                }
+                sum.sqrt() / crate::elements::c_m(m)
+            })
+            .collect()
+    }
+
+    /// Analyses section forces `x` into harmonic loads (the transpose of
+    /// [`Setup::synthesize`] with the section weights).
+    fn analyse(&self, x: &[f64], released: &mut JointAmplitudes) {
+        let n_j = self.joint_nodes.len();
+        released.par_iter_mut().enumerate().for_each(|(h, out)| {
+            for s in 0..self.sections.len() {
+                let w = self.sections.weight[s];
+                let xs = &x[s * 3 * n_j..(s + 1) * 3 * n_j];
+                for (k, (family, vec)) in [Family::Symmetric, Family::Antisymmetric]
+                    .into_iter()
+                    .zip(out.iter_mut())
+                    .enumerate()
+                {
+                    if s == 0 {
+                        vec.fill(0.0);
+                    }
+                    let (a, b) = self.phi(s, h, family);
+                    if (a == 0.0 && b == 0.0) || (k == 1 && !self.both[h]) {
+                        continue;
+                    }
+                    for (v, xj) in vec.chunks_exact_mut(3).zip(xs.chunks_exact(3)) {
+                        v[0] += w * a * xj[0];
+                        v[1] += w * a * xj[1];
+                        v[2] += w * b * xj[2];
+                    }
+                }
+            }
+        });
+    }
+
+    /// `Psi = max_s |f_s|` of a residual.
+    pub(super) fn section_max(&self, f: &[f64]) -> f64 {
+        f.chunks(self.per_section())
+            .map(|c| c.iter().map(|v| v * v).sum::<f64>().sqrt())
+            .fold(0.0f64, f64::max)
+    }
+
+    /// The record of an evaluation.
+    pub(super) fn record(
+        &self,
+        iteration: u32,
+        ratio: f64,
+        ev: &Eval,
+        start: Instant,
+        solves: u32,
+    ) -> IterationRecord {
+        let count = |k: JointState| ev.state.iter().filter(|&&s| s == k).count();
+        IterationRecord {
+            iteration,
+            ratio,
+            open: count(JointState::Open),
+            slip: count(JointState::Slip),
+            stick: count(JointState::Stick),
+            seconds: start.elapsed().as_secs_f64(),
+            solves,
+        }
+    }
+
+    /// The converged outcome at released forces `x` and their evaluation
+    /// `ev` (one full solve for the displacements of every node).
+    pub(super) fn finish(&self, x: &[f64], ev: Eval, history: Vec<IterationRecord>) -> Outcome {
+        Outcome {
+            released_spectrum: self.spectrum(&ev.g),
+            displacements: self.full_displacements(x),
+            history,
+            field: JointField {
+                sections: self.sections.clone(),
+                points: self.points.clone(),
+                d: ev.d,
+                p: ev.p,
+                state: ev.state,
+            },
+        }
+    }
+
+    /// Largest load component (the scale of "nothing released").
+    pub(super) fn load_scale(&self) -> f64 {
+        self.loads
+            .iter()
+            .flat_map(|h| h.symmetric.iter().chain(&h.antisymmetric))
+            .fold(0.0f64, |a, v| a.max(v.abs()))
+    }
+}
+
+/// The fixed-point map `Psi` of a model and its Jacobian, for tests and
+/// diagnostics: the same evaluation the iteration uses.
+pub struct FixedPoint<'a> {
+    setup: Setup<'a>,
+}
+
+impl<'a> FixedPoint<'a> {
+    /// The map for `loads` (every harmonic factorized in `factors`),
+    /// `laws[j]` the law of `model.joints[j]`, evaluated at `sections`.
+    pub fn new(
+        model: &'a Model,
+        factors: &'a [HarmonicFactor],
+        loads: &'a [HarmonicLoads],
+        laws: &'a [JointLaw],
+        sections: &'a Sections,
+    ) -> Result<Self, IterationError> {
+        Ok(FixedPoint {
+            setup: Setup::new(model, factors, loads, laws, sections, None)?,
+        })
+    }
+
+    /// Length of x: sections x joint nodes x 3 (index `(s * n_j + j) * 3 + c`).
+    pub fn len(&self) -> usize {
+        self.setup.len()
+    }
+
+    /// True when there is no joint node.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// `Psi(x)` and the state of every (section, point) (index
+    /// `s * n_points + p`), with no point broken before (one sweep).
+    pub fn psi(&self, x: &[f64]) -> (Vec<f64>, Vec<JointState>) {
+        let mut released = self.setup.zero_loads();
+        let mut ev = self.setup.new_eval();
+        self.setup.evaluate(x, &mut released, &mut ev);
+        (ev.g, ev.state)
+    }
+
+    /// `J v = Psi'(x) v - v`, the generalized Jacobian of `R = Psi - x` with
+    /// the joint tangent at the states of x (two sweeps: `Psi(x)`, `W v`).
+    pub fn jacobian_vector(&self, x: &[f64], v: &[f64]) -> Vec<f64> {
+        let s = &self.setup;
+        let mut released = s.zero_loads();
+        let mut ev = s.new_eval();
+        s.evaluate(x, &mut released, &mut ev);
+        let mut tangents = vec![None; s.n_pairs()];
+        s.tangents(&ev, &mut tangents);
+        let mut w = vec![0.0; s.len()];
+        s.apply_w(v, &mut released, &mut w);
+        let mut out = vec![0.0; s.len()];
+        s.apply_tangent(&tangents, &w, &mut out);
+        for (o, vi) in out.iter_mut().zip(v) {
+            *o -= vi;
+        }
+        out
+    }
+}

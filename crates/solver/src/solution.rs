@@ -1,0 +1,71 @@
+//! The solution types: displacement amplitudes per harmonic, support
+//! reactions and timings. A leaf module (it uses no other module of the
+//! crate): `driver` makes these values (and re-exports the types under their
+//! old paths), `iteration` and `results` use them.
+
+use serde::{Deserialize, Serialize};
+
+/// Displacement amplitudes of one harmonic (node-major, `(u_r, u_z, u_theta)`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct HarmonicDisplacement {
+    /// Harmonic m.
+    pub m: u32,
+    /// Symmetric family (`u cos, v cos, w sin`); for m = 0 also the torsion w.
+    pub symmetric: Vec<f64>,
+    /// Antisymmetric family (`u sin, v sin, -w cos`); zero for m = 0.
+    pub antisymmetric: Vec<f64>,
+}
+
+/// The displacement field as Fourier amplitudes.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Displacements {
+    /// One entry per harmonic 0..=M.
+    pub harmonics: Vec<HarmonicDisplacement>,
+}
+
+impl Displacements {
+    /// `(u_r, u_z, u_theta)` of node `n` at angle `theta` (radians).
+    pub fn at(&self, n: usize, theta: f64) -> [f64; 3] {
+        let mut u = [0.0; 3];
+        for h in &self.harmonics {
+            let (s, a) = (&h.symmetric[3 * n..3 * n + 3], &h.antisymmetric[3 * n..3 * n + 3]);
+            if h.m == 0 {
+                u[0] += s[0];
+                u[1] += s[1];
+                u[2] += s[2];
+                continue;
+            }
+            let (sin, cos) = (f64::from(h.m) * theta).sin_cos();
+            u[0] += s[0] * cos + a[0] * sin;
+            u[1] += s[1] * cos + a[1] * sin;
+            u[2] += s[2] * sin - a[2] * cos;
+        }
+        u
+    }
+}
+
+/// Reaction of one support: nodal reactions summed to Cartesian resultants.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SupportReaction {
+    /// The support's physical name.
+    pub on: String,
+    /// `(Fx, Fy, Fz)` summed over harmonics.
+    pub force: [f64; 3],
+    /// `(Mx, My, Mz)` about the origin.
+    pub moment: [f64; 3],
+    /// Per harmonic: `[m, Fx, Fy, Fz, Mx, My, Mz]`.
+    pub per_harmonic: Vec<[f64; 7]>,
+}
+
+/// Wall-clock times of a linear solve, in seconds.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Timings {
+    /// Pattern and symbolic factorization (once).
+    pub setup: f64,
+    /// Assembly and numeric factorization of all harmonics.
+    pub factorize: f64,
+    /// Back-substitutions.
+    pub solve: f64,
+    /// Reactions.
+    pub reactions: f64,
+}
