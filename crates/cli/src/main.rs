@@ -2,7 +2,10 @@
 //!
 //! The only place that prints and picks exit codes: 0 success, 1 a failure
 //! of the input or the run (the message names file, line or entity), 2 a
-//! command-line usage error (from clap).
+//! command-line usage error (from clap), 3 no equilibrium: the load exceeds
+//! what the joints carry (a one-shot run that found none, or a stepped run
+//! that stopped at its limit load factor below 1, whose outputs are written
+//! for the last converged load factor).
 
 mod mesh_cmd;
 mod report_cmd;
@@ -47,7 +50,27 @@ fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e:#}");
-            ExitCode::FAILURE
+            if beyond_capacity(&e) {
+                ExitCode::from(NO_EQUILIBRIUM)
+            } else {
+                ExitCode::FAILURE
+            }
         }
     }
+}
+
+/// Exit status when the load exceeds what the joints carry.
+const NO_EQUILIBRIUM: u8 = 3;
+
+/// Whether an error says the load exceeds the joints' capacity.
+fn beyond_capacity(e: &anyhow::Error) -> bool {
+    use axijoint_solver::iteration::IterationError;
+    e.chain().any(|c| {
+        c.downcast_ref::<solve_cmd::LimitReached>()
+            .is_some_and(|l| l.beyond_capacity)
+            || matches!(
+                c.downcast_ref::<IterationError>(),
+                Some(IterationError::NoEquilibrium { .. })
+            )
+    })
 }

@@ -68,6 +68,12 @@ pub fn report(dir: &Path, compare: &[PathBuf]) -> Result<()> {
         "joints": joint_summary,
         "harmonic_check": h.extra.get("harmonic_check"),
         "auto_harmonics": h.extra.get("auto_harmonics"),
+        "loading": h.extra.get("loading"),
+        "load_factor": h.extra.get("load_factor"),
+        "limit_load_factor": h.extra.get("limit_load_factor"),
+        "complete": h.extra.get("complete").cloned().unwrap_or(json!(true)),
+        "note": h.extra.get("note"),
+        "load_steps": h.extra.get("load_path").map(|p| &p["steps"]),
         "files": files,
     });
     let path = dir.join("summary.json");

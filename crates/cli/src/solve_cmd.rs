@@ -121,8 +121,8 @@ pub fn solve_to(scene: &Scene, out: &Path, quiet: bool) -> Result<SolutionHeader
     };
     let progress = |r: &IterationRecord| {
         bar.set_message(format!(
-            "iteration {:>4}  residual ratio {:.3e}  open {}  slip {}",
-            r.iteration, r.ratio, r.open, r.slip
+            "load factor {:.4}  iteration {:>4}  residual ratio {:.3e}  open {}  slip {}",
+            r.load_factor, r.iteration, r.ratio, r.open, r.slip
         ));
     };
     let result = if scene.harmonics == Harmonics::Auto {
@@ -148,6 +148,21 @@ pub fn solve_to(scene: &Scene, out: &Path, quiet: bool) -> Result<SolutionHeader
             "released_spectrum": outcome.released_spectrum,
             "harmonic_check": run.harmonic_check,
         });
+    }
+    if let Some(path) = &run.load_path {
+        header.extra["loading"] = serde_json::to_value(scene.solver.loading)?;
+        header.extra["load_path"] = serde_json::to_value(path)?;
+        header.extra["load_factor"] = serde_json::json!(path.reached());
+        if let Some(limit) = &path.limit {
+            if limit.beyond_capacity {
+                header.extra["limit_load_factor"] = serde_json::json!(limit.factor);
+            }
+            header.extra["complete"] = serde_json::json!(false);
+            header.extra["note"] = serde_json::json!(format!(
+                "the whole load was not reached: every result is that of the last converged load factor {:.6}",
+                limit.factor
+            ));
+        }
     }
     if !run.auto_steps.is_empty() {
         header.extra["auto_harmonics"] = serde_json::json!({
@@ -193,6 +208,30 @@ fn print_summary(path: &Path, scene: &Scene, header: &SolutionHeader, out: &Path
                 last["stick"]
             );
         }
+    }
+    if let Some(steps) = header.extra["load_path"]["steps"].as_array() {
+        let solves: u64 = steps.iter().filter_map(|s| s["solves"].as_u64()).sum();
+        let cutbacks: u64 = steps.iter().filter_map(|s| s["cutbacks"].as_u64()).sum();
+        println!(
+            "  load path: {} converged steps to load factor {:.4} ({} solves, {} cut-backs)",
+            steps.len(),
+            header.extra["load_factor"].as_f64().unwrap_or(f64::NAN),
+            solves,
+            cutbacks
+        );
+    }
+    if let Some(limit) = header.extra["load_path"].get("limit").filter(|l| !l.is_null()) {
+        let what = if limit["beyond_capacity"].as_bool() == Some(true) {
+            "LIMIT LOAD FACTOR"
+        } else {
+            "STOPPED (not a limit load) at load factor"
+        };
+        println!(
+            "  {what} {:.4}: the load factor {:.4} failed ({}); every result below is that of the last converged step",
+            limit["factor"].as_f64().unwrap_or(f64::NAN),
+            limit["failed_at"].as_f64().unwrap_or(f64::NAN),
+            limit["reason"].as_str().unwrap_or("")
+        );
     }
     if let Some(c) = header.extra.get("harmonic_check").filter(|c| !c.is_null()) {
         match (c["face_change"].as_f64(), c["area_change"].as_f64()) {
@@ -247,8 +286,54 @@ fn print_summary(path: &Path, scene: &Scene, header: &SolutionHeader, out: &Path
     println!("  written to {}", out.display());
 }
 
+/// The load could not be raised to the whole load: every output was
+/// written for the last converged load factor.
+#[derive(Debug, thiserror::Error)]
+#[error("{}", self.message())]
+pub struct LimitReached {
+    pub factor: f64,
+    pub failed_at: f64,
+    /// The failed step found no equilibrium (else it stopped for another reason).
+    pub beyond_capacity: bool,
+    pub reason: String,
+    pub dir: String,
+}
+
+impl LimitReached {
+    fn message(&self) -> String {
+        if self.beyond_capacity {
+            format!(
+                "limit load factor {:.4}: the scene's load exceeds what the joints can carry (the load factor {:.4} found no equilibrium); the outputs in {} are those of the load factor {:.4}",
+                self.factor, self.failed_at, self.dir, self.factor
+            )
+        } else {
+            format!(
+                "the run stopped at the load factor {:.4}, short of the whole load, for a reason that does not show the load exceeds the joints' capacity: {}; the outputs in {} are those of the load factor {:.4}",
+                self.factor, self.reason, self.dir, self.factor
+            )
+        }
+    }
+}
+
+/// `Err(LimitReached)` when the header says the whole load was not reached.
+fn check_limit(header: &SolutionHeader, out: &Path) -> Result<()> {
+    let limit = &header.extra["load_path"]["limit"];
+    match (limit["factor"].as_f64(), limit["failed_at"].as_f64()) {
+        (Some(factor), Some(failed_at)) => Err(LimitReached {
+            factor,
+            failed_at,
+            beyond_capacity: limit["beyond_capacity"].as_bool() == Some(true),
+            reason: limit["reason"].as_str().unwrap_or_default().to_string(),
+            dir: out.display().to_string(),
+        }
+        .into()),
+        _ => Ok(()),
+    }
+}
+
 pub fn run_solve(args: &SolveArgs) -> Result<()> {
-    solve_and_write(&args.scene, &args.common).map(|_| ())
+    let (_, out, header) = solve_and_write(&args.scene, &args.common)?;
+    check_limit(&header, &out)
 }
 
 pub fn run_run(args: &RunArgs) -> Result<()> {
@@ -256,7 +341,7 @@ pub fn run_run(args: &RunArgs) -> Result<()> {
         Some(s) => s.clone(),
         None => default_scene()?,
     };
-    let (scene, out, _) = solve_and_write(&scene, &args.common)?;
+    let (scene, out, header) = solve_and_write(&scene, &args.common)?;
     if !scene.joints.is_empty() {
         // The paper's comparison (its dashed lines): the same scene bonded.
         let mut bonded = scene.clone();
@@ -266,5 +351,6 @@ pub fn run_run(args: &RunArgs) -> Result<()> {
         solve_to(&bonded, &dir, true)?;
         println!("  comparison without joints: {}", dir.display());
     }
-    crate::report_cmd::report(&out, &[])
+    crate::report_cmd::report(&out, &[])?;
+    check_limit(&header, &out)
 }

@@ -4,6 +4,7 @@
 use crate::cuts::CutRow;
 use crate::error::ReportError;
 use crate::field::STRESS_NAMES;
+use axijoint_solver::driver::LoadPath;
 use axijoint_solver::iteration::IterationRecord;
 use axijoint_solver::results::JointFieldFile;
 use std::path::Path;
@@ -133,6 +134,55 @@ pub fn write_convergence(path: &Path, history: &[IterationRecord]) -> Result<(),
                 h.stick.to_string(),
                 num(h.seconds),
             ]
+        })
+        .collect::<Vec<_>>();
+    write_atomic(path, &header, &rows, &numbers)
+}
+
+/// The load path: one row per converged step; units in the header.
+pub fn write_load_path(path: &Path, load_path: &LoadPath, length: &str) -> Result<(), ReportError> {
+    let Some(first) = load_path.steps.first() else {
+        return write_atomic(path, &["lambda".to_string()], &[], &[]);
+    };
+    let mut header = vec!["lambda [-]".to_string()];
+    for f in &first.observed.faces {
+        for c in ["ux", "uy", "uz", "along_load"] {
+            header.push(format!("{}_{c} [{length}]", f.on));
+        }
+        header.push(format!("{}_rotation [rad]", f.on));
+    }
+    for j in &first.observed.joints {
+        for c in ["open", "slip", "stick"] {
+            header.push(format!("{}_{c}_area [{length}^2]", j.joint));
+        }
+    }
+    header.extend(["iterations", "solves", "rounds", "cutbacks"].map(String::from));
+    let mut numbers = Vec::new();
+    let rows = load_path
+        .steps
+        .iter()
+        .map(|s| {
+            let mut v = vec![s.lambda];
+            for f in &s.observed.faces {
+                v.extend(f.mean);
+                v.push(f.along);
+                v.push(f.rotation);
+            }
+            for j in &s.observed.joints {
+                v.extend([j.open, j.slip, j.stick]);
+            }
+            numbers.extend(&v);
+            let mut row: Vec<String> = v.into_iter().map(num).collect();
+            row.extend(
+                [
+                    s.iterations as u64,
+                    s.solves as u64,
+                    s.rounds as u64,
+                    s.cutbacks as u64,
+                ]
+                .map(|n| n.to_string()),
+            );
+            row
         })
         .collect::<Vec<_>>();
     write_atomic(path, &header, &rows, &numbers)

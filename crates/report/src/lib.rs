@@ -29,6 +29,7 @@ pub mod vtu;
 
 pub use error::ReportError;
 
+use axijoint_solver::driver::LoadPath;
 use axijoint_solver::iteration::IterationRecord;
 use axijoint_solver::results::{read_joint_field, SavedSolution};
 use std::path::{Path, PathBuf};
@@ -65,6 +66,16 @@ pub fn history(saved: &SavedSolution) -> Result<Option<Vec<IterationRecord>>, Re
         .extra
         .get("history")
         .map(|h| serde_json::from_value(h.clone()).map_err(|e| ReportError::Input(format!("history: {e}"))))
+        .transpose()
+}
+
+/// The load path of a stepped run, if the solution has one.
+pub fn load_path(saved: &SavedSolution) -> Result<Option<LoadPath>, ReportError> {
+    saved
+        .header
+        .extra
+        .get("load_path")
+        .map(|h| serde_json::from_value(h.clone()).map_err(|e| ReportError::Input(format!("load_path: {e}"))))
         .transpose()
 }
 
@@ -197,6 +208,44 @@ pub fn write_report(
             )?;
             add("convergence.svg".into());
             add("convergence.png".into());
+        }
+    }
+    if let Some(path) = load_path(saved)? {
+        if outputs.csv {
+            csv_out::write_load_path(&dir.join("load_path.csv"), &path, length)?;
+            add("load_path.csv".into());
+        }
+        if outputs.plots && !path.steps.is_empty() {
+            // Pushover curves: lambda against each loaded face's displacement
+            // along its load, from the unloaded state.
+            let n_faces = path.steps[0].observed.faces.len();
+            let series: Vec<plots::Series> = (0..n_faces)
+                .map(|k| plots::Series {
+                    label: format!("{}, along the load", path.steps[0].observed.faces[k].on),
+                    points: std::iter::once((0.0, 0.0))
+                        .chain(path.steps.iter().map(|s| (s.observed.faces[k].along, s.lambda)))
+                        .collect(),
+                    dashed: false,
+                    color: k,
+                })
+                .collect();
+            let title = match &path.limit {
+                Some(l) => format!(
+                    "Load path: limit load factor {:.4} (failed at {:.4})",
+                    l.factor, l.failed_at
+                ),
+                None => "Load path: load factor against displacement".to_string(),
+            };
+            plots::plot_profile(
+                &dir.join("load_path.svg"),
+                &dir.join("load_path.png"),
+                &title,
+                &format!("displacement along the load ({length})"),
+                "load factor lambda (-)",
+                &series,
+            )?;
+            add("load_path.svg".into());
+            add("load_path.png".into());
         }
     }
     if outputs.vtu {

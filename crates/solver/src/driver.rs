@@ -374,6 +374,62 @@ pub struct Run {
     pub harmonic_check: Option<HarmonicCheck>,
     /// The steps of an automatic choice of M.
     pub auto_steps: Vec<AutoStep>,
+    /// The load path of a stepped run (`solver.loading` not `"one_shot"`).
+    pub load_path: Option<LoadPath>,
+}
+
+/// The converged steps of a stepped run, and where it stopped short of the
+/// whole load.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct LoadPath {
+    /// Converged steps, in order of lambda.
+    pub steps: Vec<crate::iteration::LoadStep<StepMeasure>>,
+    /// Set when the whole load could not be reached: the limit load factor.
+    pub limit: Option<crate::iteration::LimitLoad>,
+}
+
+impl LoadPath {
+    /// The load factor reached (1 when the whole load converged).
+    pub fn reached(&self) -> f64 {
+        self.limit.as_ref().map_or(1.0, |l| l.factor)
+    }
+}
+
+/// What a converged load step measured.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct StepMeasure {
+    /// Each load's face.
+    pub faces: Vec<FaceMotion>,
+    /// Each joint's areas by state.
+    pub joints: Vec<JointAreas>,
+}
+
+/// The motion of a loaded face.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FaceMotion {
+    /// The physical curve.
+    pub on: String,
+    /// Face-average Cartesian displacement `(ux, uy, uz)` (length).
+    pub mean: [f64; 3],
+    /// Mean rotation about the axis (rad): `sum w r u_theta / sum w r^2`.
+    pub rotation: f64,
+    /// The displacement along the load: `mean . F / |F|` for a resultant
+    /// load with a force, the rotation times the face's mean nodal radius
+    /// for a pure torque, else the largest component of `mean`.
+    pub along: f64,
+}
+
+/// Joint areas by state (length^2), from the section integration.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct JointAreas {
+    /// The joint.
+    pub joint: String,
+    /// Open area.
+    pub open: f64,
+    /// Slipping area.
+    pub slip: f64,
+    /// Sticking area.
+    pub stick: f64,
 }
 
 /// How much the key results change when the harmonics are halved: the
@@ -430,29 +486,135 @@ pub fn iteration_settings(scene: &Scene) -> crate::iteration::IterationSettings 
     }
 }
 
-/// The stress-transfer iteration with harmonics 0..=m of a linear run (its
-/// factors), on `sections`.
+/// The nonlinear solution with harmonics 0..=m of a linear run (its
+/// factors), on `sections`: one-shot or along the load path of
+/// `solver.loading`.
 fn iterate(
     scene: &Scene,
     linear: &LinearRun,
     m: u32,
     sections: &crate::fourier::Sections,
     progress: impl FnMut(&crate::iteration::IterationRecord),
-) -> Result<crate::iteration::Outcome, SolverError> {
+) -> Result<(crate::iteration::Outcome, Option<LoadPath>), SolverError> {
+    use crate::iteration::StepControl;
+    use crate::scene::Loading;
     let loads: Vec<HarmonicLoads> = linear.loads.iter().filter(|h| h.m <= m).cloned().collect();
     let laws = joint_laws(scene, &linear.model);
+    let settings = iteration_settings(scene);
     // linear.displacements is the elastic solution here (both callers
     // replace it only after their last iteration).
-    Ok(crate::iteration::stress_transfer_from(
+    let control = match scene.solver.loading {
+        Loading::OneShot => {
+            let outcome = crate::iteration::stress_transfer_from(
+                &linear.model,
+                &linear.factors,
+                &loads,
+                &laws,
+                sections,
+                &settings,
+                Some(&linear.displacements),
+                progress,
+            )?;
+            return Ok((outcome, None));
+        }
+        Loading::Steps(n) => StepControl::steps(n),
+        Loading::Auto => StepControl::AUTO,
+    };
+    let mesh = &linear.model.mesh;
+    let springs: Vec<_> = linear.model.joints.iter().map(|j| j.springs).collect();
+    let observe = |_lambda: f64, u: &Displacements, field: &crate::iteration::JointField| {
+        let d = padded(u, &linear.loads);
+        let file = crate::results::JointFieldFile::new(mesh, &springs, field);
+        StepMeasure {
+            faces: scene
+                .loads
+                .iter()
+                .filter_map(|l| face_motion(mesh, l, &d))
+                .collect(),
+            joints: mesh
+                .joints
+                .iter()
+                .map(|j| {
+                    let (open, slip, stick) = file.state_areas(&j.name);
+                    JointAreas {
+                        joint: j.name.clone(),
+                        open,
+                        slip,
+                        stick,
+                    }
+                })
+                .collect(),
+        }
+    };
+    let stepped = crate::iteration::stress_transfer_stepped(
         &linear.model,
         &linear.factors,
         &loads,
         &laws,
         sections,
-        &iteration_settings(scene),
+        &settings,
+        control,
         Some(&linear.displacements),
         progress,
-    )?)
+        observe,
+    )?;
+    Ok((
+        stepped.outcome,
+        Some(LoadPath {
+            steps: stepped.steps,
+            limit: stepped.limit,
+        }),
+    ))
+}
+
+/// The motion of a loaded face ([`FaceMotion`]); `None` if the curve has no area.
+fn face_motion(mesh: &Mesh, load: &crate::scene::Load, u: &Displacements) -> Option<FaceMotion> {
+    let on = load.on();
+    let mean = face_displacement(mesh, on, u)?;
+    // Rigid rotation fit of the torsional (m = 0) u_theta over the face's nodes.
+    let mut nodes: Vec<usize> = mesh
+        .curve(on)?
+        .edges
+        .iter()
+        .flat_map(|e| e.nodes.iter().copied())
+        .collect();
+    nodes.sort_unstable();
+    nodes.dedup();
+    let (mut num, mut den, mut r_sum) = (0.0, 0.0, 0.0);
+    for h in u.harmonics.iter().filter(|h| h.m == 0) {
+        for &n in &nodes {
+            let r = mesh.nodes[n][0];
+            num += r * h.symmetric[3 * n + 2];
+            den += r * r;
+            r_sum += r;
+        }
+    }
+    let rotation = if den > 0.0 { num / den } else { 0.0 };
+    let (f, torque) = match load {
+        crate::scene::Load::Resultant(l) => (l.force, l.torque),
+        _ => ([0.0; 3], 0.0),
+    };
+    let f_norm = (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]).sqrt();
+    let r_mean = if nodes.is_empty() {
+        0.0
+    } else {
+        r_sum / nodes.len() as f64
+    };
+    let along = if f_norm > 0.0 {
+        (mean[0] * f[0] + mean[1] * f[1] + mean[2] * f[2]) / f_norm
+    } else if torque != 0.0 {
+        rotation * r_mean * torque.signum()
+    } else {
+        // Not a resultant load: its largest component.
+        mean.into_iter()
+            .fold(0.0f64, |a, v| if v.abs() > a.abs() { v } else { a })
+    };
+    Some(FaceMotion {
+        on: on.to_string(),
+        mean,
+        rotation,
+        along,
+    })
 }
 
 /// Pads amplitudes of harmonics 0..=m with zeros up to the run's harmonics.
@@ -535,15 +697,36 @@ pub fn solve_scene(
             outcome: None,
             harmonic_check: None,
             auto_steps: Vec::new(),
+            load_path: None,
         });
     }
     let sections = scene_sections(scene, &linear.loads)?;
     let m = scene.harmonics();
     let t = Instant::now();
-    let outcome = iterate(scene, &linear, m, &sections, &mut progress)?;
-    let harmonic_check = if m >= 2 {
+    let (outcome, load_path) = iterate(scene, &linear, m, &sections, &mut progress)?;
+    let complete = load_path.as_ref().is_none_or(|p| p.limit.is_none());
+    let harmonic_check = if m >= 2 && !complete {
+        Some(HarmonicCheck {
+            m,
+            m_half: m / 2,
+            face_change: None,
+            area_change: None,
+            note: Some("the whole load was not reached: no comparison".into()),
+        })
+    } else if m >= 2 {
         Some(match iterate(scene, &linear, m / 2, &sections, |_| {}) {
-            Ok(half) => harmonic_check(scene, &linear, (&outcome, m), (&half, m / 2)),
+            Ok((_, path)) if path.as_ref().is_some_and(|p| p.limit.is_some()) => HarmonicCheck {
+                m,
+                m_half: m / 2,
+                face_change: None,
+                area_change: None,
+                note: Some(format!(
+                    "the run with harmonics 0..={} reached only the load factor {:.4}",
+                    m / 2,
+                    path.map_or(1.0, |p| p.reached())
+                )),
+            },
+            Ok((half, _)) => harmonic_check(scene, &linear, (&outcome, m), (&half, m / 2)),
             Err(e) => HarmonicCheck {
                 m,
                 m_half: m / 2,
@@ -563,6 +746,7 @@ pub fn solve_scene(
         outcome: Some(outcome),
         harmonic_check,
         auto_steps: Vec::new(),
+        load_path,
     })
 }
 
@@ -600,7 +784,7 @@ pub fn solve_scene_auto(
     let t = Instant::now();
     loop {
         let sections = scene_sections(&sc, &linear.loads)?;
-        let outcome = iterate(&sc, &linear, m, &sections, &mut progress)?;
+        let (outcome, load_path) = iterate(&sc, &linear, m, &sections, &mut progress)?;
         let values = measure(&linear.model, &outcome.displacements);
         let change = previous.as_ref().map(|p| {
             let scale = values
@@ -618,7 +802,9 @@ pub fn solve_scene_auto(
             iterations: outcome.history.len(),
             change,
         });
-        let done = change.is_some_and(|c| c < tolerance) || 2 * m > m_max;
+        // Short of the whole load, more harmonics are not tried.
+        let short = load_path.as_ref().is_some_and(|p| p.limit.is_some());
+        let done = short || change.is_some_and(|c| c < tolerance) || 2 * m > m_max;
         if done {
             linear.displacements = outcome.displacements.clone();
             linear.timings.solve += t.elapsed().as_secs_f64();
@@ -630,6 +816,7 @@ pub fn solve_scene_auto(
                     outcome: Some(outcome),
                     harmonic_check: None,
                     auto_steps: steps,
+                    load_path,
                 },
             ));
         }

@@ -1,5 +1,5 @@
 //! The joint's constitutive law at one integration point and theta section
-//! (the paper's Eqs. 10-11, DESIGN.md section 2).
+//! (the paper's Eqs. 10-11; docs/theory.md).
 //!
 //! Trial traction `p = k d` in local axes `(tau_xi, sigma, tau_theta)`;
 //! `sigma > 0` is tension. The admissible traction:
@@ -9,11 +9,24 @@
 //! - slip: the shear is scaled back to `tau_y` (the resultant check keeps
 //!   its direction; the component check clamps each component).
 //!
-//! The law is holonomic (total relative displacement in, traction out), as
-//! the stress-transfer iteration of a single load step uses it.
+//! Two forms:
+//! - [`admissible`], the paper's holonomic law (total relative displacement
+//!   in, traction out) that a one-shot stress-transfer iteration uses;
+//! - [`admissible_history`], the history law of stepped loading: from the
+//!   state committed at the last converged step ([`PointHistory`]: debonded
+//!   or not, plastic slip `s`), the trial traction is
+//!   `t = (k_xi (d_xi - s_xi), k_eta d_eta, k_theta (d_theta - s_theta))`;
+//!   a debonded point has `C = 0` and no tensile strength (open when
+//!   `sigma > 0`, friction only when closed); an intact point keeps its
+//!   cohesion and carries tension elastically *within* a step, so the law
+//!   a step solves is continuous in `d` (the caller debonds the points whose
+//!   `sigma` exceeds the tensile strength once the step has converged, and
+//!   solves the step again). [`commit`] stores the plastic slip of a
+//!   converged step: `s = d_s - p_s / k_s` (the elastic part of the slip
+//!   is `p / k`).
 
 use crate::elements::JointSprings;
-use crate::scene::{JointLaw, ShearCheck};
+use crate::scene::{JointLaw, MohrCoulomb, ShearCheck};
 use serde::{Deserialize, Serialize};
 
 /// State of a joint point at one section.
@@ -57,21 +70,28 @@ pub fn admissible(
         *broken = true;
         return ([0.0; 3], JointState::Open);
     }
+    shear_return(mc, p)
+}
+
+/// The shear return at trial traction `t` (normal part kept):
+/// `tau_y = max(C - sigma tan(phi), 0)`.
+fn shear_return(mc: &MohrCoulomb, t: [f64; 3]) -> ([f64; 3], JointState) {
+    let sigma = t[1];
     let tau_y = (mc.cohesion - sigma * mc.tan_phi()).max(0.0);
     match mc.shear_check {
         ShearCheck::Resultant => {
-            let tau = p[0].hypot(p[2]);
+            let tau = t[0].hypot(t[2]);
             if tau <= tau_y {
-                (p, JointState::Stick)
+                (t, JointState::Stick)
             } else {
                 let f = tau_y / tau;
-                ([p[0] * f, sigma, p[2] * f], JointState::Slip)
+                ([t[0] * f, sigma, t[2] * f], JointState::Slip)
             }
         }
         ShearCheck::Components => {
-            let clamp = |t: f64| t.clamp(-tau_y, tau_y);
-            let q = [clamp(p[0]), sigma, clamp(p[2])];
-            let state = if q == p {
+            let clamp = |v: f64| v.clamp(-tau_y, tau_y);
+            let q = [clamp(t[0]), sigma, clamp(t[2])];
+            let state = if q == t {
                 JointState::Stick
             } else {
                 JointState::Slip
@@ -81,10 +101,80 @@ pub fn admissible(
     }
 }
 
+/// The state a (point, section) pair carries from one converged load step
+/// to the next under the history law.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PointHistory {
+    /// The normal stress once exceeded the tensile strength: no cohesion
+    /// and no tensile strength since.
+    pub debonded: bool,
+    /// Plastic slip `(s_xi, s_theta)` (length).
+    pub slip: [f64; 2],
+}
+
+/// The law a pair with history `h` follows: `law` itself, or with `C = 0`
+/// and `T = 0` once debonded.
+pub fn effective_law(law: &JointLaw, h: &PointHistory) -> JointLaw {
+    match law {
+        JointLaw::MohrCoulomb(mc) if h.debonded => JointLaw::MohrCoulomb(MohrCoulomb {
+            cohesion: 0.0,
+            tensile_strength: 0.0,
+            ..*mc
+        }),
+        _ => *law,
+    }
+}
+
+/// The trial traction relative to the plastic slip of `h`:
+/// `(k_xi (d_xi - s_xi), k_eta d_eta, k_theta (d_theta - s_theta))`.
+pub fn relative_trial(k: &JointSprings, d: [f64; 3], h: &PointHistory) -> [f64; 3] {
+    k.traction([d[0] - h.slip[0], d[1], d[2] - h.slip[1]])
+}
+
+/// The history law within a load step: the admissible traction for
+/// relative displacement `d` from the committed state `h`, and the state.
+/// An intact point is never opened here (tension is elastic within the
+/// step; see [`exceeds_tensile_strength`]).
+pub fn admissible_history(
+    law: &JointLaw,
+    k: &JointSprings,
+    d: [f64; 3],
+    h: &PointHistory,
+) -> ([f64; 3], JointState) {
+    let t = relative_trial(k, d, h);
+    let mc = match effective_law(law, h) {
+        JointLaw::Linear => return (k.traction(d), JointState::Stick),
+        JointLaw::MohrCoulomb(mc) => mc,
+    };
+    if h.debonded && t[1] > 0.0 {
+        return ([0.0; 3], JointState::Open);
+    }
+    shear_return(&mc, t)
+}
+
+/// Whether an intact pair at relative displacement `d` carries a normal
+/// stress above its tensile strength (it debonds at the end of the step).
+pub fn exceeds_tensile_strength(law: &JointLaw, k: &JointSprings, d: [f64; 3], h: &PointHistory) -> bool {
+    match law {
+        JointLaw::MohrCoulomb(mc) => !h.debonded && k.k_eta * d[1] > mc.tensile_strength,
+        JointLaw::Linear => false,
+    }
+}
+
+/// Commits a converged step: the plastic slip `s = d_s - p_s / k_s` of a
+/// slipping pair, `s = d_s` of an open one (it carries no shear); a
+/// sticking pair keeps its slip.
+pub fn commit(k: &JointSprings, d: [f64; 3], p: [f64; 3], state: JointState, h: &mut PointHistory) {
+    match state {
+        JointState::Stick => {}
+        JointState::Slip => h.slip = [d[0] - p[0] / k.k_xi, d[2] - p[2] / k.k_theta],
+        JointState::Open => h.slip = [d[0], d[2]],
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::MohrCoulomb;
 
     fn law(c: f64, phi: f64, t0: f64, check: ShearCheck) -> JointLaw {
         JointLaw::MohrCoulomb(MohrCoulomb {
@@ -184,5 +274,70 @@ mod tests {
         let mut b = false;
         let (p, s) = admissible(&JointLaw::Linear, &K, [1.0, 2.0, 3.0], &mut b);
         assert_eq!((p, s), ([10.0, 40.0, 15.0], JointState::Stick));
+    }
+
+    #[test]
+    fn history_law_keeps_tension_elastic_until_committed() {
+        // Intact, sigma = 0.2 > T = 0.1: traction kept (tau_y = 0.5 - 0.2 tan 30).
+        let l = law(0.5, 30.0, 0.1, ShearCheck::Resultant);
+        let h = PointHistory::default();
+        let (p, s) = admissible_history(&l, &K, [0.01, 0.01, 0.0], &h);
+        assert_eq!((p, s), ([0.1, 0.2, 0.0], JointState::Stick));
+        assert!(exceeds_tensile_strength(&l, &K, [0.0, 0.01, 0.0], &h));
+        assert!(!exceeds_tensile_strength(&l, &K, [0.0, 0.004, 0.0], &h));
+    }
+
+    #[test]
+    fn debonded_point_has_friction_only() {
+        let l = law(0.5, 30.0, 0.1, ShearCheck::Resultant);
+        let h = PointHistory {
+            debonded: true,
+            slip: [0.0; 2],
+        };
+        // Any tension opens it.
+        assert_eq!(
+            admissible_history(&l, &K, [0.01, 1e-6, 0.0], &h),
+            ([0.0; 3], JointState::Open)
+        );
+        // Closed at sigma = -1: tau_y = tan 30 (no cohesion).
+        let (p, s) = admissible_history(&l, &K, [0.3, -0.05, 0.0], &h);
+        assert_eq!(s, JointState::Slip);
+        assert!((p[0] - 30f64.to_radians().tan()).abs() < 1e-14);
+        assert!(!exceeds_tensile_strength(&l, &K, [0.0, 1.0, 0.0], &h));
+    }
+
+    #[test]
+    fn plastic_slip_is_kept_and_unloads_elastically() {
+        // phi = 0, C = 0.5: slip at d_xi = 0.3 leaves s = 0.3 - 0.5 / 10 = 0.25.
+        let l = law(0.5, 0.0, 0.0, ShearCheck::Resultant);
+        let mut h = PointHistory::default();
+        let d = [0.3, -0.01, 0.0];
+        let (p, s) = admissible_history(&l, &K, d, &h);
+        assert_eq!((p[0], s), (0.5, JointState::Slip));
+        commit(&K, d, p, s, &mut h);
+        assert!((h.slip[0] - 0.25).abs() < 1e-15);
+        // Unloading to d_xi = 0.2 sticks at tau = 10 (0.2 - 0.25) = -0.5 ...
+        let (p, s) = admissible_history(&l, &K, [0.2, -0.01, 0.0], &h);
+        assert_eq!(s, JointState::Stick);
+        assert!((p[0] + 0.5).abs() < 1e-14);
+        // ... and reversing further slips the other way.
+        let (p, s) = admissible_history(&l, &K, [0.1, -0.01, 0.0], &h);
+        assert_eq!((p[0], s), (-0.5, JointState::Slip));
+        // An open pair carries no shear: its slip follows d.
+        commit(&K, [0.7, 0.1, 0.2], [0.0; 3], JointState::Open, &mut h);
+        assert_eq!(h.slip, [0.7, 0.2]);
+    }
+
+    #[test]
+    fn history_law_from_a_virgin_state_is_the_paper_law_in_compression() {
+        // Without history and in compression both laws give the same traction.
+        let h = PointHistory::default();
+        for check in [ShearCheck::Resultant, ShearCheck::Components] {
+            let l = law(0.5, 30.0, 0.0, check);
+            for d in [[0.3, -0.05, 0.4], [0.01, -0.02, -0.03], [-0.2, -0.001, 0.05]] {
+                let mut b = false;
+                assert_eq!(admissible_history(&l, &K, d, &h), admissible(&l, &K, d, &mut b));
+            }
+        }
     }
 }

@@ -23,7 +23,7 @@ use axijoint_solver::iteration::{
     stress_transfer, FixedPoint, IterationError, IterationRecord, IterationSettings, Method,
 };
 use axijoint_solver::joint_law::JointState;
-use axijoint_solver::scene::{JointLaw, Load, Scene, ShearCheck, SolverMethod};
+use axijoint_solver::scene::{JointLaw, Load, Loading, Scene, ShearCheck, SolverMethod};
 use std::f64::consts::PI;
 use std::time::Instant;
 
@@ -249,6 +249,8 @@ fn newton_converges_on_scene_p_and_agrees_with_anderson() {
 fn torsion(factor: f64, method: SolverMethod) -> (Scene, Result<axijoint_solver::driver::Run, SolverError>) {
     let mut sc = Scene::from_path(geo("block_torsion.json")).expect("scene");
     sc.solver.method = method;
+    // The one-shot iteration's own diagnosis (stepped loading: loading.rs).
+    sc.solver.loading = Loading::OneShot;
     let a = sc.mesh.parameters["a"];
     let c = match sc.joints["contact"].law {
         JointLaw::MohrCoulomb(mc) => mc.cohesion,

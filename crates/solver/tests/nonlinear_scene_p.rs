@@ -40,7 +40,7 @@
 use axijoint_solver::driver::solve_scene;
 use axijoint_solver::iteration::{JointField, Outcome};
 use axijoint_solver::joint_law::JointState;
-use axijoint_solver::scene::Scene;
+use axijoint_solver::scene::{Loading, Scene};
 use std::path::PathBuf;
 
 /// Path of a file in the workspace's `geo/` folder.
@@ -53,6 +53,8 @@ fn geo(name: &str) -> PathBuf {
 /// Solves a Scene P variant with `epsilon` (None: the file's).
 fn solve(name: &str, epsilon: Option<f64>) -> Outcome {
     let mut scene = Scene::from_path(geo(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
+    // The paper's iteration (its counts and profiles).
+    scene.solver.loading = Loading::OneShot;
     if let Some(eps) = epsilon {
         scene.solver.epsilon = eps;
     }

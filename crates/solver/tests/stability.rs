@@ -63,7 +63,7 @@ use axijoint_solver::driver::{face_displacement, solve_linear, solve_scene, Disp
 use axijoint_solver::error::SolverError;
 use axijoint_solver::iteration::{IterationError, IterationRecord};
 use axijoint_solver::joint_law::JointState;
-use axijoint_solver::scene::{JointLaw, MohrCoulomb, Scene, Sections, SolverMethod};
+use axijoint_solver::scene::{JointLaw, Loading, MohrCoulomb, Scene, Sections, SolverMethod};
 use std::f64::consts::PI;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::{Mutex, MutexGuard};
@@ -232,6 +232,9 @@ fn equilibrium_error(run: &Run) -> f64 {
 fn solve(sc: &Scene, method: SolverMethod, t_lin: f64) -> Solved {
     let mut sc = sc.clone();
     sc.solver.method = method;
+    // The map characterizes the one-shot iteration of each method; stepped
+    // loading is tested in loading.rs.
+    sc.solver.loading = Loading::OneShot;
     let result = catch_unwind(AssertUnwindSafe(|| solve_scene(&sc, None, |_| {})));
     let mut s = Solved {
         category: Category::Failed,

@@ -3,7 +3,7 @@
 
 use super::diagnosis::{no_equilibrium, not_converged, residual_limit, unresolved};
 use super::setup::Setup;
-use super::{IterationError, IterationRecord, IterationSettings, Outcome};
+use super::{Converged, IterationError, IterationRecord, IterationSettings, Start};
 use std::time::Instant;
 
 /// Anderson mixing (type II) of a fixed point `x = Psi(x)` from the
@@ -88,13 +88,15 @@ pub(super) fn fixed_point(
     setup: &Setup,
     depth: usize,
     settings: &IterationSettings,
+    from: Start,
     progress: &mut dyn FnMut(&IterationRecord),
-) -> Result<Outcome, IterationError> {
+) -> Result<Converged, IterationError> {
     let start = Instant::now();
     // x: the released section forces applied; ev.g: those released by the
     // current solution.
     let mut ev = setup.new_eval();
-    let mut x = vec![0.0; setup.len()];
+    let warm = from.psi_ref.is_some();
+    let mut x = from.x0;
     let mut released = setup.zero_loads();
     let mut history = Vec::new();
     let mut mixer = Anderson::new(depth);
@@ -114,7 +116,7 @@ pub(super) fn fixed_point(
         let f: Vec<f64> = ev.g.iter().zip(&x).map(|(a, b)| a - b).collect();
         let psi = setup.section_max(&f);
         if it == 1 {
-            psi0 = psi;
+            psi0 = from.psi_ref.unwrap_or(psi);
         }
         let nothing_released = psi0 <= 1e-14 * load_scale.max(f64::MIN_POSITIVE);
         let ratio = if nothing_released { 0.0 } else { psi / psi0 };
@@ -135,8 +137,8 @@ pub(super) fn fixed_point(
                 return Err(no_equilibrium(setup, &f, &reason, record, history));
             }
         }
-        if nothing_released || (it > 1 && ratio < settings.epsilon) {
-            return Ok(setup.finish(&x, ev, history));
+        if nothing_released || ((it > 1 || warm) && ratio < settings.epsilon) {
+            return Ok(Converged { x, ev, history });
         }
         if it > 1 {
             let stalled = if ratio < best * 0.999 {

@@ -31,8 +31,13 @@ mod fixed_point;
 mod newton;
 mod release;
 mod setup;
+mod steps;
 
 pub use setup::FixedPoint;
+pub use steps::{
+    stress_transfer_stepped, LimitLoad, LoadStep, StepControl, Stepped, BRACKET, EASY_ITERATIONS, MAX_ROUNDS,
+    MIN_INCREMENT,
+};
 
 use crate::elements::JointPoint;
 use crate::fourier::Sections;
@@ -112,6 +117,14 @@ pub struct IterationRecord {
     /// Newton step. Their sum over the history is the run's cost in solves.
     #[serde(default)]
     pub solves: u32,
+    /// The load factor lambda of the step this iteration belongs to (1 for
+    /// a one-shot run).
+    #[serde(default = "one")]
+    pub load_factor: f64,
+}
+
+fn one() -> f64 {
+    1.0
 }
 /// Where a joint integration point is.
 #[derive(Clone, Debug, PartialEq)]
@@ -206,6 +219,14 @@ pub enum IterationError {
         /// The history.
         history: Vec<IterationRecord>,
     },
+    /// Debonding did not settle within a load step.
+    #[error("the debonded points did not settle in {rounds} rounds of one load step")]
+    Rounds {
+        /// Rounds done.
+        rounds: u32,
+        /// The history.
+        history: Vec<IterationRecord>,
+    },
     /// A harmonic or section setting that cannot work.
     #[error("{0}")]
     Setup(String),
@@ -217,10 +238,47 @@ impl IterationError {
         match self {
             IterationError::NoEquilibrium { history, .. }
             | IterationError::NotConverged { history, .. }
-            | IterationError::StiffJoint { history, .. } => history,
+            | IterationError::StiffJoint { history, .. }
+            | IterationError::Rounds { history, .. } => history,
             IterationError::Setup(_) => &[],
         }
     }
+
+    /// Puts `earlier` records (e.g. earlier rounds of a step) before the history.
+    fn prepend_history(&mut self, earlier: &[IterationRecord]) {
+        if let IterationError::NoEquilibrium { history, .. }
+        | IterationError::NotConverged { history, .. }
+        | IterationError::StiffJoint { history, .. }
+        | IterationError::Rounds { history, .. } = self
+        {
+            history.splice(0..0, earlier.iter().copied());
+        }
+    }
+}
+
+/// Where an iteration starts: the released section forces `x0` (zero for
+/// a one-shot run, the last converged step's in a stepped one) and the
+/// reference `Psi_0` of the residual ratio (`None`: the first residual).
+pub(super) struct Start {
+    x0: Vec<f64>,
+    psi_ref: Option<f64>,
+}
+
+impl Start {
+    /// From zero, relative to the first residual (the paper's iteration).
+    fn zero(setup: &Setup) -> Start {
+        Start {
+            x0: vec![0.0; setup.len()],
+            psi_ref: None,
+        }
+    }
+}
+
+/// A converged iteration: the released forces, their evaluation, the history.
+pub(super) struct Converged {
+    x: Vec<f64>,
+    ev: release::Eval,
+    history: Vec<IterationRecord>,
 }
 
 /// Runs the iteration. `factors` must hold every harmonic of `loads`;
@@ -251,11 +309,13 @@ pub fn stress_transfer_from(
     mut progress: impl FnMut(&IterationRecord),
 ) -> Result<Outcome, IterationError> {
     let setup = Setup::new(model, factors, loads, laws, sections, elastic)?;
-    match settings.method {
-        Method::Plain => fixed_point(&setup, 0, settings, &mut progress),
-        Method::Anderson { depth } => fixed_point(&setup, depth, settings, &mut progress),
-        Method::Newton => newton(&setup, settings, &mut progress),
-    }
+    let start = Start::zero(&setup);
+    let conv = match settings.method {
+        Method::Plain => fixed_point(&setup, 0, settings, start, &mut progress),
+        Method::Anderson { depth } => fixed_point(&setup, depth, settings, start, &mut progress),
+        Method::Newton => newton(&setup, settings, start, &mut progress),
+    }?;
+    Ok(setup.finish(&conv.x, conv.ev, conv.history))
 }
 
 fn dot(a: &[f64], b: &[f64]) -> f64 {

@@ -4,7 +4,7 @@
 use super::diagnosis::{no_equilibrium, not_converged, unresolved};
 use super::release::Tangent;
 use super::setup::{JointAmplitudes, Setup};
-use super::{axpy, dot, norm, IterationError, IterationRecord, IterationSettings, Outcome};
+use super::{axpy, dot, norm, Converged, IterationError, IterationRecord, IterationSettings, Start};
 use std::collections::VecDeque;
 use std::time::Instant;
 
@@ -215,32 +215,35 @@ impl Krylov {
 pub(super) fn newton(
     setup: &Setup,
     settings: &IterationSettings,
+    from: Start,
     progress: &mut dyn FnMut(&IterationRecord),
-) -> Result<Outcome, IterationError> {
+) -> Result<Converged, IterationError> {
     let start = Instant::now();
     let nx = setup.len();
     let mut released = setup.zero_loads();
     let mut acc = setup.new_eval();
     let mut trial = setup.new_eval();
-    let mut x = vec![0.0; nx];
+    let mut x = from.x0;
     let mut x_trial = vec![0.0; nx];
     let mut delta = vec![0.0; nx];
     let mut w_delta = vec![0.0; nx];
     let mut tangents: Vec<Tangent> = vec![None; setup.n_pairs()];
     let mut krylov = Krylov::new();
 
-    // The elastic solve.
+    // The first evaluation: the elastic solve (or from a warm start).
     setup.evaluate(&x, &mut released, &mut acc);
     // Whether `acc` is a true evaluation at x (not a linearized trial).
     let mut evaluated;
     let mut res: Vec<f64> = acc.g.iter().zip(&x).map(|(a, b)| a - b).collect();
     let mut res_trial = vec![0.0; nx];
-    let psi0 = setup.section_max(&res);
+    let psi_first = setup.section_max(&res);
+    let psi0 = from.psi_ref.unwrap_or(psi_first);
     let nothing_released = psi0 <= 1e-14 * setup.load_scale().max(f64::MIN_POSITIVE);
-    let record = setup.record(1, if nothing_released { 0.0 } else { 1.0 }, &acc, start, 1);
+    let first_ratio = if nothing_released { 0.0 } else { psi_first / psi0 };
+    let record = setup.record(1, first_ratio, &acc, start, 1);
     progress(&record);
     let mut history = vec![record];
-    if !psi0.is_finite() {
+    if !psi_first.is_finite() {
         return Err(no_equilibrium(
             setup,
             &res,
@@ -249,8 +252,8 @@ pub(super) fn newton(
             history,
         ));
     }
-    if nothing_released {
-        return Ok(setup.finish(&x, acc, history));
+    if nothing_released || (from.psi_ref.is_some() && first_ratio < settings.epsilon) {
+        return Ok(Converged { x, ev: acc, history });
     }
 
     let mut total = 1u32;
@@ -360,7 +363,7 @@ pub(super) fn newton(
             return Err(no_equilibrium(setup, &res, &reason, record, history));
         }
         if ratio < settings.epsilon && evaluated {
-            return Ok(setup.finish(&x, acc, history));
+            return Ok(Converged { x, ev: acc, history });
         }
 
         // No equilibrium.

@@ -3,7 +3,9 @@
 
 use super::setup::Setup;
 use crate::elements::{add_traction_forces, relative_displacement, JointSprings};
-use crate::joint_law::{admissible, JointState};
+use crate::joint_law::{
+    admissible, admissible_history, effective_law, relative_trial, JointState, PointHistory,
+};
 use crate::scene::{JointLaw, ShearCheck};
 use rayon::prelude::*;
 
@@ -89,11 +91,14 @@ pub(super) fn release_tangent(law: &JointLaw, trial: [f64; 3], state: JointState
 
 impl Setup<'_> {
     /// Evaluates the law at every point of section `s`; returns the released
-    /// joint-node forces (per radian) into `g`, and the field values.
+    /// joint-node forces (per radian) into `g`, and the field values. With
+    /// the committed `history` of the section's points the history law is
+    /// used, else the paper's law with the break memory `broken`.
     #[allow(clippy::too_many_arguments)]
     fn release(
         &self,
         u_s: &[f64],
+        history: Option<&[PointHistory]>,
         broken: &mut [bool],
         g: &mut [f64],
         d_out: &mut [[f64; 3]],
@@ -110,7 +115,11 @@ impl Setup<'_> {
             }
             let springs = self.model.joints[info.joint].springs;
             let d = relative_displacement(&info.point, &ue[..3 * nl.len()]);
-            let (p, state) = admissible(&self.laws[info.joint], &springs, d, &mut broken[i]);
+            let law = &self.laws[info.joint];
+            let (p, state) = match history {
+                Some(h) => admissible_history(law, &springs, d, &h[i]),
+                None => admissible(law, &springs, d, &mut broken[i]),
+            };
             let trial = springs.traction(d);
             let excess = [trial[0] - p[0], trial[1] - p[1], trial[2] - p[2]];
             if excess != [0.0; 3] {
@@ -149,7 +158,8 @@ impl Setup<'_> {
             .zip(state.par_chunks_mut(n_p))
             .enumerate()
             .for_each(|(s, ((((gs, bs), ds), ps), sts))| {
-                self.release(&u_s[s * m..(s + 1) * m], bs, gs, ds, ps, sts)
+                let history = self.history.as_ref().and_then(|h| h.get(s * n_p..(s + 1) * n_p));
+                self.release(&u_s[s * m..(s + 1) * m], history, bs, gs, ds, ps, sts)
             });
     }
 
@@ -160,7 +170,15 @@ impl Setup<'_> {
             for (i, (t, info)) in ts.iter_mut().zip(&self.points).enumerate() {
                 let k = s * self.points.len() + i;
                 let springs = self.model.joints[info.joint].springs;
-                *t = release_tangent(&self.laws[info.joint], springs.traction(ev.d[k]), ev.state[k]);
+                let law = &self.laws[info.joint];
+                *t = match self.history.as_ref().and_then(|h| h.get(k)) {
+                    Some(h) => release_tangent(
+                        &effective_law(law, h),
+                        relative_trial(&springs, ev.d[k], h),
+                        ev.state[k],
+                    ),
+                    None => release_tangent(law, springs.traction(ev.d[k]), ev.state[k]),
+                };
             }
         });
     }

@@ -5,10 +5,10 @@
 //! diagnostics.
 
 use super::release::Eval;
-use super::{IterationError, IterationRecord, JointField, Outcome, PointInfo};
-use crate::elements::joint_points;
+use super::{Converged, IterationError, IterationRecord, JointField, Outcome, PointInfo};
+use crate::elements::{joint_points, JointSprings};
 use crate::fourier::{Family, Sections};
-use crate::joint_law::JointState;
+use crate::joint_law::{JointState, PointHistory};
 use crate::linear::{HarmonicFactor, Model};
 use crate::loads::HarmonicLoads;
 use crate::scene::JointLaw;
@@ -38,6 +38,12 @@ pub(super) struct Setup<'a> {
     u0: JointAmplitudes,
     /// Whether harmonic h has an antisymmetric family to solve.
     both: Vec<bool>,
+    /// The load factor lambda: the loads are `lambda F` (1 but in steps).
+    pub(super) lambda: f64,
+    /// The committed history of every (section, point) pair (index
+    /// `s * n_points + p`): `Some` selects the history law of stepped
+    /// loading, `None` the paper's law.
+    pub(super) history: Option<Vec<PointHistory>>,
 }
 
 impl<'a> Setup<'a> {
@@ -174,6 +180,8 @@ impl<'a> Setup<'a> {
             n_h,
             u0,
             both,
+            lambda: 1.0,
+            history: None,
         })
     }
 
@@ -258,7 +266,7 @@ impl<'a> Setup<'a> {
                 if with_loads {
                     for (uk, u0) in u.iter_mut().zip(&self.u0[h]) {
                         for (a, b) in uk.iter_mut().zip(u0) {
-                            *a += b;
+                            *a += self.lambda * b;
                         }
                     }
                 }
@@ -268,8 +276,8 @@ impl<'a> Setup<'a> {
     }
 
     /// The displacements of every node for released section forces `x`:
-    /// one full solve of `F + A x` per harmonic.
-    fn full_displacements(&self, x: &[f64]) -> Displacements {
+    /// one full solve of `lambda F + A x` per harmonic.
+    pub(super) fn full_displacements(&self, x: &[f64]) -> Displacements {
         let n = self.model.mesh.nodes.len();
         let mut released = self.zero_loads();
         self.analyse(x, &mut released);
@@ -280,7 +288,8 @@ impl<'a> Setup<'a> {
             .zip(&released)
             .enumerate()
             .map(|(h, ((f, factor), g))| {
-                let mut loads = [f.symmetric.clone(), f.antisymmetric.clone()];
+                let scale = |v: &[f64]| -> Vec<f64> { v.iter().map(|a| self.lambda * a).collect() };
+                let mut loads = [scale(&f.symmetric), scale(&f.antisymmetric)];
                 for (vec, gk) in loads.iter_mut().zip(g) {
                     for (&k, gj) in self.joint_nodes.iter().zip(gk.chunks_exact(3)) {
                         for c in 0..3 {
@@ -413,24 +422,49 @@ impl<'a> Setup<'a> {
             stick: count(JointState::Stick),
             seconds: start.elapsed().as_secs_f64(),
             solves,
+            load_factor: self.lambda,
         }
     }
 
     /// The converged outcome at released forces `x` and their evaluation
     /// `ev` (one full solve for the displacements of every node).
     pub(super) fn finish(&self, x: &[f64], ev: Eval, history: Vec<IterationRecord>) -> Outcome {
-        Outcome {
-            released_spectrum: self.spectrum(&ev.g),
-            displacements: self.full_displacements(x),
-            history,
-            field: JointField {
-                sections: self.sections.clone(),
-                points: self.points.clone(),
-                d: ev.d,
-                p: ev.p,
-                state: ev.state,
+        let displacements = self.full_displacements(x);
+        self.finish_with(
+            Converged {
+                x: x.to_vec(),
+                ev,
+                history,
             },
+            displacements,
+        )
+    }
+
+    /// The outcome of a converged solve whose displacements are known.
+    pub(super) fn finish_with(&self, conv: Converged, displacements: Displacements) -> Outcome {
+        Outcome {
+            released_spectrum: self.spectrum(&conv.ev.g),
+            field: self.field(&conv.ev),
+            displacements,
+            history: conv.history,
         }
+    }
+
+    /// The joint field of an evaluation.
+    pub(super) fn field(&self, ev: &Eval) -> JointField {
+        JointField {
+            sections: self.sections.clone(),
+            points: self.points.clone(),
+            d: ev.d.clone(),
+            p: ev.p.clone(),
+            state: ev.state.clone(),
+        }
+    }
+
+    /// The springs of the joint of pair `i` (index `s * n_points + p`).
+    pub(super) fn springs(&self, i: usize) -> JointSprings {
+        let info = &self.points[i % self.points.len().max(1)];
+        self.model.joints[info.joint].springs
     }
 
     /// Largest load component (the scale of "nothing released").

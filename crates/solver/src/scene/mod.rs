@@ -37,7 +37,7 @@ pub use error::SceneError;
 pub use joint::{JointConfig, JointLaw, MohrCoulomb, RuleKind, ShearCheck};
 pub use load::{Family, Linear, Load, PointLoad, ResultantLoad, RingLoad, TractionLoad};
 pub use settings::{
-    Cut, Fix, Material, MeshSource, Outputs, Sections, SolverMethod, SolverSettings, Support, Units,
+    Cut, Fix, Loading, Material, MeshSource, Outputs, Sections, SolverMethod, SolverSettings, Support, Units,
 };
 
 use axijoint_mesh::JointSpec;

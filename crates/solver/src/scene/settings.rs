@@ -256,6 +256,93 @@ pub struct SolverSettings {
     /// With `"harmonics": "auto"`: the largest M tried.
     #[serde(default = "SolverSettings::default_max_harmonics")]
     pub max_harmonics: u32,
+    /// How the load is applied (nonlinear joints).
+    #[serde(default)]
+    pub loading: Loading,
+}
+
+/// The load path of a nonlinear run: `"one_shot"`, `{"steps": N}` or
+/// `{"steps": "auto"}`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Loading {
+    /// The whole load in one stress-transfer iteration with the paper's
+    /// holonomic law (reproduces the paper).
+    OneShot,
+    /// Proportional loading `lambda F` in steps of at most `1 / N`, cut back
+    /// by bisection where a step does not converge; the history law.
+    Steps(u32),
+    /// Proportional loading with automatic step control: the whole load
+    /// first, bisection on failure, growth after easy steps; the history
+    /// law. Ends with the limit load factor when the load cannot be raised.
+    #[default]
+    Auto,
+}
+
+impl Serialize for Loading {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        match self {
+            Loading::OneShot => s.serialize_str("one_shot"),
+            Loading::Steps(n) => {
+                let mut m = s.serialize_map(Some(1))?;
+                m.serialize_entry("steps", n)?;
+                m.end()
+            }
+            Loading::Auto => {
+                let mut m = s.serialize_map(Some(1))?;
+                m.serialize_entry("steps", "auto")?;
+                m.end()
+            }
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for Loading {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        const EXPECTED: &str = r#""one_shot", {"steps": N} (N >= 1) or {"steps": "auto"}"#;
+        impl<'de> Visitor<'de> for V {
+            type Value = Loading;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str(EXPECTED)
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<Loading, E> {
+                match v {
+                    "one_shot" => Ok(Loading::OneShot),
+                    _ => Err(E::invalid_value(de::Unexpected::Str(v), &EXPECTED)),
+                }
+            }
+            fn visit_map<A: de::MapAccess<'de>>(self, mut map: A) -> Result<Loading, A::Error> {
+                #[derive(Deserialize)]
+                #[serde(untagged)]
+                enum Steps {
+                    N(u32),
+                    Name(String),
+                }
+                let Some(key) = map.next_key::<String>()? else {
+                    return Err(de::Error::missing_field("steps"));
+                };
+                if key != "steps" {
+                    return Err(de::Error::unknown_field(&key, &["steps"]));
+                }
+                let loading = match map.next_value::<Steps>()? {
+                    Steps::N(0) => {
+                        return Err(de::Error::invalid_value(de::Unexpected::Unsigned(0), &EXPECTED))
+                    }
+                    Steps::N(n) => Loading::Steps(n),
+                    Steps::Name(s) if s == "auto" => Loading::Auto,
+                    Steps::Name(s) => {
+                        return Err(de::Error::invalid_value(de::Unexpected::Str(&s), &EXPECTED))
+                    }
+                };
+                if let Some(extra) = map.next_key::<String>()? {
+                    return Err(de::Error::unknown_field(&extra, &["steps"]));
+                }
+                Ok(loading)
+            }
+        }
+        d.deserialize_any(V)
+    }
 }
 
 impl SolverSettings {
@@ -281,6 +368,7 @@ impl Default for SolverSettings {
             max_iterations: SolverSettings::default_max_iterations(),
             harmonics_tolerance: SolverSettings::default_harmonics_tolerance(),
             max_harmonics: SolverSettings::default_max_harmonics(),
+            loading: Loading::default(),
         }
     }
 }

@@ -1,0 +1,299 @@
+//! Proportional loading `lambda F` in steps with the history law
+//! ([`crate::joint_law::admissible_history`]), and the step control.
+//!
+//! Each step is solved by the scene's method on the elastic factors (no
+//! factorization per step), warm-started from the released forces of the
+//! last converged step. Within a step the law is continuous: an intact
+//! point carries tension elastically; once the step has converged, every
+//! intact point whose normal stress exceeds its tensile strength debonds
+//! and the step is solved again ("rounds", at most [`MAX_ROUNDS`]: the
+//! debonded set only grows). A converged step commits the history (plastic
+//! slip, debonding); a failed attempt leaves the committed state as it was.
+//!
+//! Step control: the first increment is the whole load ([`Loading::Auto`]) or
+//! `1 / N`; a step that does not converge is cut back by half (the failed
+//! load is remembered); after an easy converged step the increment doubles
+//! (up to its cap), but never past a load that failed; a failed load is
+//! retried once the increment reaches it. The run ends at `lambda = 1`, or
+//! when a load fails at most [`BRACKET`] (relative) or [`MIN_INCREMENT`]
+//! (absolute) above the last converged one: that load factor is the limit
+//! load factor, bracketed by the failed one.
+//!
+//! The residual ratio of every step is relative to the same reference: the
+//! released forces of the elastic solution of the whole load under the
+//! paper's law (the `Psi_0` of a one-shot run), so a step is converged to
+//! the same absolute accuracy whatever its size.
+
+use super::setup::Setup;
+use super::{
+    fixed_point::fixed_point, newton::newton, Converged, IterationError, IterationRecord, IterationSettings,
+    Method, Outcome, Start,
+};
+use crate::fourier::Sections;
+use crate::joint_law::{commit, exceeds_tensile_strength, PointHistory};
+use crate::linear::{HarmonicFactor, Model};
+use crate::loads::HarmonicLoads;
+use crate::scene::JointLaw;
+use crate::solution::Displacements;
+use serde::{Deserialize, Serialize};
+
+/// Relative width of the bracket on the limit load factor.
+pub const BRACKET: f64 = 0.01;
+/// The smallest load increment (absolute, a fraction of the load).
+pub const MIN_INCREMENT: f64 = 1e-4;
+/// Debonding rounds within one step before the step counts as failed.
+pub const MAX_ROUNDS: u32 = 50;
+/// A converged step with at most this many iterations (Newton steps or
+/// fixed-point iterations, summed over its rounds) lets the increment grow.
+pub const EASY_ITERATIONS: usize = 12;
+
+/// How the load is raised.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StepControl {
+    /// The first increment.
+    pub first: f64,
+    /// The largest increment.
+    pub max: f64,
+}
+
+impl StepControl {
+    /// The whole load first, growth up to the whole load.
+    pub const AUTO: StepControl = StepControl { first: 1.0, max: 1.0 };
+
+    /// Increments of at most `1 / n`.
+    pub fn steps(n: u32) -> StepControl {
+        let d = 1.0 / n.max(1) as f64;
+        StepControl { first: d, max: d }
+    }
+}
+
+/// One converged load step.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct LoadStep<T> {
+    /// Load factor lambda at the end of the step.
+    pub lambda: f64,
+    /// Iterations (Newton steps or fixed-point iterations) over its rounds.
+    pub iterations: usize,
+    /// Back-substitution sweeps it cost (failed attempts before it included).
+    pub solves: u32,
+    /// Debonding rounds.
+    pub rounds: u32,
+    /// Attempts that failed before it converged.
+    pub cutbacks: u32,
+    /// Open, slipping and sticking (point, section) pairs.
+    pub open: usize,
+    /// Slipping pairs.
+    pub slip: usize,
+    /// Sticking pairs.
+    pub stick: usize,
+    /// What the caller measured at this step.
+    pub observed: T,
+}
+
+/// Where the load could not be raised further.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct LimitLoad {
+    /// The last converged load factor (the limit load factor).
+    pub factor: f64,
+    /// The smallest load factor that failed from it.
+    pub failed_at: f64,
+    /// Why the failed step did not converge.
+    pub reason: String,
+    /// Whether the failure shows that the load exceeds what the joints
+    /// carry (the iteration found no equilibrium). `false`: it stopped for
+    /// another reason (a joint much stiffer than its elements, the iteration
+    /// limit), and the factor is only how far the run got.
+    pub beyond_capacity: bool,
+}
+
+/// A stepped solution.
+#[derive(Clone, Debug)]
+pub struct Stepped<T> {
+    /// The solution at the last converged load factor (the whole load if
+    /// `limit` is `None`); its history is that step's.
+    pub outcome: Outcome,
+    /// The converged steps.
+    pub steps: Vec<LoadStep<T>>,
+    /// Set when the whole load could not be reached.
+    pub limit: Option<LimitLoad>,
+}
+
+/// Solves `loads` by proportional loading with the history law. `observe`
+/// sees the displacements and joint field of every converged step.
+#[allow(clippy::too_many_arguments)]
+pub fn stress_transfer_stepped<T>(
+    model: &Model,
+    factors: &[HarmonicFactor],
+    loads: &[HarmonicLoads],
+    laws: &[JointLaw],
+    sections: &Sections,
+    settings: &IterationSettings,
+    control: StepControl,
+    elastic: Option<&Displacements>,
+    mut progress: impl FnMut(&IterationRecord),
+    mut observe: impl FnMut(f64, &Displacements, &super::JointField) -> T,
+) -> Result<Stepped<T>, IterationError> {
+    let mut setup = Setup::new(model, factors, loads, laws, sections, elastic)?;
+    let n_pairs = setup.n_pairs();
+    let nx = setup.len();
+
+    // The reference Psi_0: the paper-law release of the elastic solution.
+    let psi_ref = {
+        let mut released = setup.zero_loads();
+        let mut ev = setup.new_eval();
+        setup.evaluate(&vec![0.0; nx], &mut released, &mut ev);
+        setup.section_max(&ev.g)
+    };
+
+    let mut committed = vec![PointHistory::default(); n_pairs];
+    let mut x_c = vec![0.0; nx];
+    let mut lam_c = 0.0f64;
+    let mut last: Option<(Converged, Displacements)> = None;
+    let mut steps: Vec<LoadStep<T>> = Vec::new();
+    let mut delta = control.first.clamp(MIN_INCREMENT, 1.0);
+    let mut failed_at: Option<f64> = None;
+    let (mut cutbacks, mut spent) = (0u32, 0u32);
+    let limit = loop {
+        let target = (lam_c + delta).min(1.0);
+        setup.lambda = target;
+        setup.history = Some(committed.clone());
+        match solve_step(&mut setup, x_c.clone(), psi_ref, settings, &mut progress) {
+            Ok((conv, rounds)) => {
+                let mut hist = setup.history.take().unwrap_or_default();
+                for (i, h) in hist.iter_mut().enumerate() {
+                    let springs = setup.springs(i);
+                    commit(&springs, conv.ev.d[i], conv.ev.p[i], conv.ev.state[i], h);
+                }
+                committed = hist;
+                lam_c = target;
+                x_c.clone_from(&conv.x);
+                let displacements = setup.full_displacements(&x_c);
+                let field = setup.field(&conv.ev);
+                let observed = observe(lam_c, &displacements, &field);
+                let count = |k| conv.ev.state.iter().filter(|&&s| s == k).count();
+                use crate::joint_law::JointState::*;
+                let iterations = conv.history.len();
+                steps.push(LoadStep {
+                    lambda: lam_c,
+                    iterations,
+                    solves: spent + conv.history.iter().map(|r| r.solves).sum::<u32>(),
+                    rounds,
+                    cutbacks,
+                    open: count(Open),
+                    slip: count(Slip),
+                    stick: count(Stick),
+                    observed,
+                });
+                last = Some((conv, displacements));
+                (cutbacks, spent) = (0, 0);
+                if lam_c >= 1.0 {
+                    break None;
+                }
+                if failed_at.is_some_and(|f| f <= lam_c) {
+                    failed_at = None;
+                }
+                if failed_at.is_none() && iterations <= EASY_ITERATIONS {
+                    delta = (2.0 * delta).min(control.max);
+                }
+                if let Some(f) = failed_at {
+                    delta = delta.min(f - lam_c);
+                }
+            }
+            Err(IterationError::Setup(e)) => return Err(IterationError::Setup(e)),
+            Err(e) => {
+                cutbacks += 1;
+                spent += e.history().iter().map(|r| r.solves).sum::<u32>();
+                failed_at = Some(failed_at.map_or(target, |f| f.min(target)));
+                let gap = target - lam_c;
+                if gap <= (BRACKET * lam_c).max(MIN_INCREMENT) {
+                    break Some(LimitLoad {
+                        factor: lam_c,
+                        failed_at: target,
+                        reason: e.to_string(),
+                        beyond_capacity: matches!(e, IterationError::NoEquilibrium { .. }),
+                    });
+                }
+                delta = (0.5 * gap).max(MIN_INCREMENT);
+            }
+        }
+    };
+
+    // The outcome at the last converged load (lambda = 0: the unloaded state).
+    setup.lambda = lam_c;
+    setup.history = Some(committed);
+    let outcome = match last {
+        Some((conv, displacements)) => setup.finish_with(conv, displacements),
+        None => {
+            let mut released = setup.zero_loads();
+            let mut ev = setup.new_eval();
+            setup.evaluate(&x_c, &mut released, &mut ev);
+            let displacements = setup.full_displacements(&x_c);
+            setup.finish_with(
+                Converged {
+                    x: x_c,
+                    ev,
+                    history: Vec::new(),
+                },
+                displacements,
+            )
+        }
+    };
+    Ok(Stepped {
+        outcome,
+        steps,
+        limit,
+    })
+}
+
+/// One step at `setup.lambda` from the history in `setup.history`: the
+/// method's solve, then debonding rounds. Leaves the trial history (with
+/// the new debonded points) in `setup.history`.
+fn solve_step(
+    setup: &mut Setup,
+    x0: Vec<f64>,
+    psi_ref: f64,
+    settings: &IterationSettings,
+    progress: &mut dyn FnMut(&IterationRecord),
+) -> Result<(Converged, u32), IterationError> {
+    let mut start = Start {
+        x0,
+        psi_ref: Some(psi_ref),
+    };
+    let mut records = Vec::new();
+    for round in 1..=MAX_ROUNDS {
+        let mut conv = match settings.method {
+            Method::Plain => fixed_point(setup, 0, settings, start, progress),
+            Method::Anderson { depth } => fixed_point(setup, depth, settings, start, progress),
+            Method::Newton => newton(setup, settings, start, progress),
+        }
+        .map_err(|mut e| {
+            e.prepend_history(&records);
+            e
+        })?;
+        let mut debonded = 0usize;
+        if let Some(hist) = setup.history.as_mut() {
+            let n_p = setup.points.len().max(1);
+            for (i, h) in hist.iter_mut().enumerate() {
+                let info = &setup.points[i % n_p];
+                let springs = setup.model.joints[info.joint].springs;
+                if exceeds_tensile_strength(&setup.laws[info.joint], &springs, conv.ev.d[i], h) {
+                    h.debonded = true;
+                    debonded += 1;
+                }
+            }
+        }
+        records.append(&mut conv.history);
+        if debonded == 0 {
+            conv.history = records;
+            return Ok((conv, round));
+        }
+        start = Start {
+            x0: conv.x,
+            psi_ref: Some(psi_ref),
+        };
+    }
+    Err(IterationError::Rounds {
+        rounds: MAX_ROUNDS,
+        history: records,
+    })
+}

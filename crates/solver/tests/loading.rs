@@ -1,0 +1,233 @@
+//! The load path (issue 11): stepped proportional loading with the history
+//! law, the step control and the limit load factor.
+//!
+//! | test | claim | tolerance |
+//! |---|---|---|
+//! | torsion at 1.1 T_max | limit load factor `1 / 1.1` (full slip `T_max = 2 pi C a^3 / 3`) inside the bracket | 1 % |
+//! | sliding at 1.05 H_max | limit load factor `1 / 1.05` (`H_max = C pi a^2`, phi = 0) inside the bracket | 1 % |
+//! | torsion below T_max | stepped = one-shot (the closed-form case) | 1e-6 |
+//! | scaling | C, T and every load times 2: displacements times 2 | 1e-6 |
+//! | pile in soil | axial, lateral, both x C = 0.02, 0.5 reach the whole load; equilibrium; stiffer than C = 0, softer than linear joints | 1e-6 (reactions) |
+//! | sweep | Scene P, C x H x size x M with the default settings: every cell reaches the whole load | - |
+//!
+//! Scenes: `geo/block_torsion.json` (rigid block on a cohesive joint,
+//! phi = 0, so the shear strength does not depend on the axial force that
+//! the proportional loading scales too), `geo/pile_soil.json`,
+//! `geo/pile_footing.json`. Run with `--nocapture` for the measured numbers.
+
+use axijoint_solver::driver::{face_displacement, solve_scene, LoadPath, Run};
+use axijoint_solver::scene::{JointLaw, Loading, Scene, SolverSettings};
+use std::f64::consts::PI;
+
+mod joint_cases;
+use joint_cases::*;
+
+fn run(scene: &Scene) -> Run {
+    solve_scene(scene, None, |_| {}).unwrap_or_else(|e| panic!("{}: {e}", scene.title))
+}
+
+fn path(run: &Run) -> &LoadPath {
+    run.load_path.as_ref().expect("a stepped run has a load path")
+}
+
+fn set_cohesion(scene: &mut Scene, c: f64) {
+    for j in scene.joints.values_mut() {
+        if let JointLaw::MohrCoulomb(mc) = &mut j.law {
+            mc.cohesion = c;
+        }
+    }
+}
+
+/// Checks the limit load factor of a run against `expected` (1 %), and that
+/// it is bracketed to 1 % by the failed load factor.
+fn assert_limit(run: &Run, expected: f64, what: &str) {
+    let p = path(run);
+    let limit = p
+        .limit
+        .as_ref()
+        .unwrap_or_else(|| panic!("{what}: the whole load was reached"));
+    println!(
+        "{what}: limit load factor {:.5} (expected {expected:.5}), failed at {:.5}, {} steps, {} solves: {}",
+        limit.factor,
+        limit.failed_at,
+        p.steps.len(),
+        p.steps.iter().map(|s| s.solves).sum::<u32>(),
+        limit.reason
+    );
+    assert!(
+        (limit.factor / expected - 1.0).abs() < 0.01,
+        "{what}: limit {} vs {expected}",
+        limit.factor
+    );
+    assert!(limit.beyond_capacity, "{what}: {}", limit.reason);
+    assert!(limit.failed_at > limit.factor && limit.failed_at <= 1.01 * limit.factor + 1e-4);
+    // The capacity lies in [factor, failed_at].
+    assert!(
+        limit.factor <= expected * (1.0 + 1e-9) && expected < limit.failed_at,
+        "{what}"
+    );
+    assert!(p.steps.iter().all(|s| s.lambda <= limit.factor));
+}
+
+#[test]
+fn torsion_beyond_full_slip_ends_at_the_limit_load_factor() {
+    let mut sc = scene("block_torsion.json");
+    sc.solver = SolverSettings::default();
+    let (a, c) = (radius(&sc), 0.1);
+    let t_max = 2.0 * PI * c * a.powi(3) / 3.0;
+    resultant(&mut sc).torque = 1.1 * t_max;
+    let r = run(&sc);
+    assert_limit(&r, 1.0 / 1.1, "torsion at 1.1 T_max");
+}
+
+#[test]
+fn sliding_beyond_the_shear_capacity_ends_at_the_limit_load_factor() {
+    let mut sc = scene("block_torsion.json");
+    sc.solver = SolverSettings::default();
+    sc.harmonics = 2u32.into();
+    let (a, c) = (radius(&sc), 0.1);
+    let h_max = c * PI * a * a;
+    let l = resultant(&mut sc);
+    l.torque = 0.0;
+    l.force = [1.05 * h_max, 0.0, -0.1];
+    // At the joint plane: no overturning moment, uniform shear.
+    l.at_z = Some(0.0);
+    let r = run(&sc);
+    assert_limit(&r, 1.0 / 1.05, "sliding at 1.05 H_max");
+}
+
+#[test]
+fn stepped_and_one_shot_agree_below_full_slip() {
+    let mut sc = scene("block_torsion.json");
+    sc.solver.loading = Loading::OneShot;
+    let one = run(&sc);
+    for loading in [Loading::Auto, Loading::Steps(4)] {
+        sc.solver.loading = loading;
+        let stepped = run(&sc);
+        assert!(path(&stepped).limit.is_none());
+        let d = relative_difference(&one.linear.displacements, &stepped.linear.displacements);
+        println!(
+            "{loading:?}: {} steps, difference to one-shot {d:.2e}",
+            path(&stepped).steps.len()
+        );
+        assert!(d < 1e-6, "{loading:?}: {d}");
+    }
+}
+
+#[test]
+fn scaling_strength_and_load_together_scales_the_answer() {
+    let base = scene("pile_footing.json");
+    let mut scaled = base.clone();
+    if let JointLaw::MohrCoulomb(mc) = &mut scaled.joints.get_mut("pile_side").expect("joint").law {
+        mc.cohesion *= 2.0;
+        mc.tensile_strength *= 2.0;
+    }
+    resultant(&mut scaled).force[0] *= 2.0;
+    let (a, b) = (run(&base), run(&scaled));
+    let ua = face_displacement(&a.linear.model.mesh, "pile_end", &a.linear.displacements).expect("face");
+    let ub = face_displacement(&b.linear.model.mesh, "pile_end", &b.linear.displacements).expect("face");
+    println!(
+        "pile_end ux: {:.6e} and {:.6e} (ratio {})",
+        ua[0],
+        ub[0],
+        ub[0] / ua[0]
+    );
+    assert!((ub[0] / ua[0] - 2.0).abs() < 2e-6);
+    assert_eq!(path(&a).steps.len(), path(&b).steps.len());
+}
+
+/// The pile in soil (`geo/pile_soil.json`): every cohesive run reached "no
+/// equilibrium" one-shot, and each reaches the whole load stepped.
+#[test]
+fn pile_in_soil_reaches_the_whole_load() {
+    let base = scene("pile_soil.json");
+    let head = |r: &Run| {
+        face_displacement(&r.linear.model.mesh, "pile_head", &r.linear.displacements).expect("face")
+    };
+    for (name, force) in [
+        ("axial", [0.0, 0.0, -0.3]),
+        ("lateral", [0.05, 0.0, 0.0]),
+        ("both", [0.05, 0.0, -0.3]),
+    ] {
+        let mut sc = base.clone();
+        resultant(&mut sc).force = force;
+        let mut linear = sc.clone();
+        for j in linear.joints.values_mut() {
+            j.law = JointLaw::Linear;
+        }
+        let u_linear = head(&run(&linear));
+        let mut frictional = sc.clone();
+        set_cohesion(&mut frictional, 0.0);
+        let u_frictional = head(&run(&frictional));
+        // Along the load.
+        let along = |u: [f64; 3]| (u[0] * force[0] + u[2] * force[2]) / (force[0].hypot(force[2]));
+        for c in [0.02, 0.5] {
+            set_cohesion(&mut sc, c);
+            let r = run(&sc);
+            let p = path(&r);
+            assert!(p.limit.is_none(), "{name}, C = {c}: {:?}", p.limit);
+            let u = head(&r);
+            println!(
+                "{name}, C = {c}: {} steps, {} solves; head along the load {:.4e} (linear joints {:.4e}, C = 0 {:.4e})",
+                p.steps.len(),
+                p.steps.iter().map(|s| s.solves).sum::<u32>(),
+                along(u),
+                along(u_linear),
+                along(u_frictional)
+            );
+            // Equilibrium: the reactions balance the load.
+            let f: f64 = r.linear.reactions.iter().map(|s| s.force[0]).sum::<f64>() + force[0];
+            let fz: f64 = r.linear.reactions.iter().map(|s| s.force[2]).sum::<f64>() + force[2];
+            assert!(
+                f.abs().max(fz.abs()) < 1e-6,
+                "{name}, C = {c}: out of balance ({f}, {fz})"
+            );
+            // The joints lose stiffness: softer than linear joints; cohesion
+            // can only stiffen them against the purely frictional joint.
+            assert!(along(u) >= along(u_linear) * (1.0 - 1e-6), "{name}, C = {c}");
+            assert!(along(u) <= along(u_frictional) * (1.0 + 1e-3), "{name}, C = {c}");
+        }
+    }
+}
+
+/// The sweep of the issue: Scene P with cohesion C and load H varied, two
+/// meshes and two harmonic counts, the default solver settings (method,
+/// loading, sections): every cell reaches the whole load.
+#[test]
+fn scene_p_sweep_converges_with_the_defaults() {
+    let mut failures = Vec::new();
+    for size in [0.1, 0.07] {
+        for m in [8u32, 16] {
+            for c in [0.25, 0.5, 1.0] {
+                for h in [0.25, 0.5, 1.0] {
+                    let mut sc = scene("pile_footing.json");
+                    sc.mesh.parameters.insert("size".into(), size);
+                    sc.harmonics = m.into();
+                    sc.sections = None;
+                    sc.solver = SolverSettings::default();
+                    set_cohesion(&mut sc, c);
+                    resultant(&mut sc).force[0] = h;
+                    match solve_scene(&sc, None, |_| {}) {
+                        Ok(r) => {
+                            let p = path(&r);
+                            let solves: u32 = p.steps.iter().map(|s| s.solves).sum();
+                            println!(
+                                "size {size} M {m} C {c} H {h}: {} steps, {solves} solves, limit {:?}",
+                                p.steps.len(),
+                                p.limit.as_ref().map(|l| l.factor)
+                            );
+                            if let Some(l) = &p.limit {
+                                failures.push(format!(
+                                    "size {size} M {m} C {c} H {h}: limit {} ({})",
+                                    l.factor, l.reason
+                                ));
+                            }
+                        }
+                        Err(e) => failures.push(format!("size {size} M {m} C {c} H {h}: {e}")),
+                    }
+                }
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{failures:#?}");
+}
