@@ -617,6 +617,21 @@ fn face_motion(mesh: &Mesh, load: &crate::scene::Load, u: &Displacements) -> Opt
     })
 }
 
+/// The loads times the load factor `lambda` (the loads of a stepped run
+/// that stopped at `lambda`).
+fn scaled(loads: &[HarmonicLoads], lambda: f64) -> Vec<HarmonicLoads> {
+    loads
+        .iter()
+        .map(|h| {
+            let mut h = h.clone();
+            for v in h.symmetric.iter_mut().chain(h.antisymmetric.iter_mut()) {
+                *v *= lambda;
+            }
+            h
+        })
+        .collect()
+}
+
 /// Pads amplitudes of harmonics 0..=m with zeros up to the run's harmonics.
 fn padded(d: &Displacements, all: &[HarmonicLoads]) -> Displacements {
     let n = all.first().map_or(0, |h| h.symmetric.len());
@@ -740,7 +755,13 @@ pub fn solve_scene(
     };
     linear.displacements = outcome.displacements.clone();
     linear.timings.solve += t.elapsed().as_secs_f64();
-    linear.reactions = reactions(scene, &linear.model, &linear.loads, &linear.displacements);
+    let lambda = load_path.as_ref().map_or(1.0, LoadPath::reached);
+    linear.reactions = reactions(
+        scene,
+        &linear.model,
+        &scaled(&linear.loads, lambda),
+        &linear.displacements,
+    );
     Ok(Run {
         linear,
         outcome: Some(outcome),
@@ -808,7 +829,13 @@ pub fn solve_scene_auto(
         if done {
             linear.displacements = outcome.displacements.clone();
             linear.timings.solve += t.elapsed().as_secs_f64();
-            linear.reactions = reactions(&sc, &linear.model, &linear.loads, &linear.displacements);
+            let lambda = load_path.as_ref().map_or(1.0, LoadPath::reached);
+            linear.reactions = reactions(
+                &sc,
+                &linear.model,
+                &scaled(&linear.loads, lambda),
+                &linear.displacements,
+            );
             return Ok((
                 sc,
                 Run {

@@ -78,6 +78,13 @@ fn torsion_beyond_full_slip_ends_at_the_limit_load_factor() {
     resultant(&mut sc).torque = 1.1 * t_max;
     let r = run(&sc);
     assert_limit(&r, 1.0 / 1.1, "torsion at 1.1 T_max");
+    // The results are those of the last converged step: its reactions
+    // balance lambda T and lambda P (to 1e-6 relative).
+    let lambda = path(&r).reached();
+    let mz: f64 = r.linear.reactions.iter().map(|s| s.moment[2]).sum();
+    let fz: f64 = r.linear.reactions.iter().map(|s| s.force[2]).sum();
+    assert!((mz / (lambda * 1.1 * t_max) + 1.0).abs() < 1e-6, "Mz {mz}");
+    assert!((fz / (lambda * 0.1) - 1.0).abs() < 1e-6, "Fz {fz}");
 }
 
 #[test]
