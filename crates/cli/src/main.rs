@@ -63,7 +63,13 @@ fn main() -> ExitCode {
 const NO_EQUILIBRIUM: u8 = 3;
 
 /// Whether an error says the load exceeds the joints' capacity.
+///
+/// The solver returns an `IterationError` wrapped in `SolverError::Iteration`,
+/// which is `#[error(transparent)]`: its `source()` is the inner error's
+/// source, so the `IterationError` itself never appears in the chain and
+/// must be looked for inside the `SolverError` too.
 fn beyond_capacity(e: &anyhow::Error) -> bool {
+    use axijoint_solver::error::SolverError;
     use axijoint_solver::iteration::IterationError;
     e.chain().any(|c| {
         c.downcast_ref::<solve_cmd::LimitReached>()
@@ -71,6 +77,10 @@ fn beyond_capacity(e: &anyhow::Error) -> bool {
             || matches!(
                 c.downcast_ref::<IterationError>(),
                 Some(IterationError::NoEquilibrium { .. })
+            )
+            || matches!(
+                c.downcast_ref::<SolverError>(),
+                Some(SolverError::Iteration(IterationError::NoEquilibrium { .. }))
             )
     })
 }

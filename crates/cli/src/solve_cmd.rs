@@ -147,13 +147,21 @@ pub fn solve_to(scene: &Scene, out: &Path, quiet: bool) -> Result<SolutionHeader
             "history": outcome.history,
             "released_spectrum": outcome.released_spectrum,
             "harmonic_check": run.harmonic_check,
+            // Every nonlinear run says how its load was applied (a one-shot
+            // run has no load path but is one).
+            "loading": scene.solver.loading,
         });
     }
     if let Some(path) = &run.load_path {
-        header.extra["loading"] = serde_json::to_value(scene.solver.loading)?;
         header.extra["load_path"] = serde_json::to_value(path)?;
         header.extra["load_factor"] = serde_json::json!(path.reached());
         if let Some(limit) = &path.limit {
+            // Like every other output, `applied` is that of the last
+            // converged step (the reactions balance `lambda F`, not `F`).
+            let a = &mut header.applied;
+            for v in a.force.iter_mut().chain(a.moment.iter_mut()) {
+                *v *= limit.factor;
+            }
             if limit.beyond_capacity {
                 header.extra["limit_load_factor"] = serde_json::json!(limit.factor);
             }

@@ -142,7 +142,7 @@ pub fn write_convergence(path: &Path, history: &[IterationRecord]) -> Result<(),
 /// The load path: one row per converged step; units in the header.
 pub fn write_load_path(path: &Path, load_path: &LoadPath, length: &str) -> Result<(), ReportError> {
     let Some(first) = load_path.steps.first() else {
-        return write_atomic(path, &["lambda".to_string()], &[], &[]);
+        return write_atomic(path, &["lambda [-]".to_string()], &[], &[]);
     };
     let mut header = vec!["lambda [-]".to_string()];
     for f in &first.observed.faces {
@@ -156,7 +156,7 @@ pub fn write_load_path(path: &Path, load_path: &LoadPath, length: &str) -> Resul
             header.push(format!("{}_{c}_area [{length}^2]", j.joint));
         }
     }
-    header.extend(["iterations", "solves", "rounds", "cutbacks"].map(String::from));
+    header.extend(["iterations [-]", "solves [-]", "rounds [-]", "cutbacks [-]"].map(String::from));
     let mut numbers = Vec::new();
     let rows = load_path
         .steps
