@@ -1,5 +1,5 @@
 //! The joint's constitutive law at one integration point and theta section
-//! (the paper's Eqs. 10-11; docs/theory.md).
+//! (the paper's Eqs. 10-11; the history law: docs/loading.md).
 //!
 //! Trial traction `p = k d` in local axes `(tau_xi, sigma, tau_theta)`;
 //! `sigma > 0` is tension. The admissible traction:
