@@ -617,19 +617,13 @@ fn face_motion(mesh: &Mesh, load: &crate::scene::Load, u: &Displacements) -> Opt
     })
 }
 
-/// The loads times the load factor `lambda` (the loads of a stepped run
-/// that stopped at `lambda`).
-fn scaled(loads: &[HarmonicLoads], lambda: f64) -> Vec<HarmonicLoads> {
-    loads
-        .iter()
-        .map(|h| {
-            let mut h = h.clone();
-            for v in h.symmetric.iter_mut().chain(h.antisymmetric.iter_mut()) {
-                *v *= lambda;
-            }
-            h
-        })
-        .collect()
+/// The loads of a run that reached the load factor `lambda` (borrowed at 1).
+fn scaled(loads: &[HarmonicLoads], lambda: f64) -> std::borrow::Cow<'_, [HarmonicLoads]> {
+    if lambda == 1.0 {
+        std::borrow::Cow::Borrowed(loads)
+    } else {
+        std::borrow::Cow::Owned(loads.iter().map(|h| h.scaled(lambda)).collect())
+    }
 }
 
 /// Pads amplitudes of harmonics 0..=m with zeros up to the run's harmonics.

@@ -52,6 +52,15 @@ impl JointState {
     }
 }
 
+/// The (open, slip, stick) counts of `states`.
+pub fn state_counts(states: &[JointState]) -> (usize, usize, usize) {
+    states.iter().fold((0, 0, 0), |(o, sl, st), s| match s {
+        JointState::Open => (o + 1, sl, st),
+        JointState::Slip => (o, sl + 1, st),
+        JointState::Stick => (o, sl, st + 1),
+    })
+}
+
 /// The admissible traction for relative displacement `d` (local axes), and
 /// the state. `broken` remembers that the tensile strength was exceeded.
 pub fn admissible(

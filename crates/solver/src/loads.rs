@@ -107,6 +107,16 @@ pub struct HarmonicLoads {
 }
 
 impl HarmonicLoads {
+    /// The loads times `lambda`.
+    pub fn scaled(&self, lambda: f64) -> HarmonicLoads {
+        let times = |v: &[f64]| v.iter().map(|a| lambda * a).collect();
+        HarmonicLoads {
+            m: self.m,
+            symmetric: times(&self.symmetric),
+            antisymmetric: times(&self.antisymmetric),
+        }
+    }
+
     /// Whether any load component of this harmonic is non-zero.
     pub fn is_loaded(&self) -> bool {
         self.symmetric

@@ -90,6 +90,34 @@ pub(super) fn release_tangent(law: &JointLaw, trial: [f64; 3], state: JointState
 }
 
 impl Setup<'_> {
+    /// The relative displacement at point `i` from the joint-node values
+    /// `u` of one section.
+    fn relative(&self, i: usize, u: &[f64]) -> [f64; 3] {
+        let nl = &self.local[i];
+        let mut ue = [0.0; 18];
+        for (a, &j) in nl.iter().enumerate() {
+            ue[3 * a..3 * a + 3].copy_from_slice(&u[3 * j..3 * j + 3]);
+        }
+        relative_displacement(&self.points[i].point, &ue[..3 * nl.len()])
+    }
+
+    /// Adds the nodal forces of traction `t` at point `i` to the joint-node
+    /// forces `out` of one section (`fe`: scratch).
+    fn scatter(&self, i: usize, t: [f64; 3], fe: &mut [f64; 18], out: &mut [f64]) {
+        if t == [0.0; 3] {
+            return;
+        }
+        let nl = &self.local[i];
+        let fe = &mut fe[..3 * nl.len()];
+        fe.fill(0.0);
+        add_traction_forces(&self.points[i].point, t, 1.0, fe);
+        for (a, &j) in nl.iter().enumerate() {
+            for c in 0..3 {
+                out[3 * j + c] += fe[3 * a + c];
+            }
+        }
+    }
+
     /// Evaluates the law at every point of section `s`; returns the released
     /// joint-node forces (per radian) into `g`, and the field values. With
     /// the committed `history` of the section's points the history law is
@@ -106,15 +134,10 @@ impl Setup<'_> {
         st_out: &mut [JointState],
     ) {
         g.fill(0.0);
-        let mut ue = [0.0; 18];
         let mut fe = [0.0; 18];
         for (i, info) in self.points.iter().enumerate() {
-            let nl = &self.local[i];
-            for (a, &j) in nl.iter().enumerate() {
-                ue[3 * a..3 * a + 3].copy_from_slice(&u_s[3 * j..3 * j + 3]);
-            }
             let springs = self.model.joints[info.joint].springs;
-            let d = relative_displacement(&info.point, &ue[..3 * nl.len()]);
+            let d = self.relative(i, u_s);
             let law = &self.laws[info.joint];
             let (p, state) = match history {
                 Some(h) => admissible_history(law, &springs, d, &h[i]),
@@ -122,15 +145,7 @@ impl Setup<'_> {
             };
             let trial = springs.traction(d);
             let excess = [trial[0] - p[0], trial[1] - p[1], trial[2] - p[2]];
-            if excess != [0.0; 3] {
-                fe[..3 * nl.len()].fill(0.0);
-                add_traction_forces(&info.point, excess, 1.0, &mut fe[..3 * nl.len()]);
-                for (a, &j) in nl.iter().enumerate() {
-                    for c in 0..3 {
-                        g[3 * j + c] += fe[3 * a + c];
-                    }
-                }
-            }
+            self.scatter(i, excess, &mut fe, g);
             d_out[i] = d;
             p_out[i] = p;
             st_out[i] = state;
@@ -191,28 +206,15 @@ impl Setup<'_> {
         out.par_chunks_mut(m).enumerate().for_each(|(s, os)| {
             os.fill(0.0);
             let du = &du_s[s * m..(s + 1) * m];
-            let mut ue = [0.0; 18];
             let mut fe = [0.0; 18];
             for (i, info) in self.points.iter().enumerate() {
                 let Some(t) = tangents[s * n_p + i] else {
                     continue;
                 };
-                let nl = &self.local[i];
-                for (a, &j) in nl.iter().enumerate() {
-                    ue[3 * a..3 * a + 3].copy_from_slice(&du[3 * j..3 * j + 3]);
-                }
                 let springs: JointSprings = self.model.joints[info.joint].springs;
-                let dt = springs.traction(relative_displacement(&info.point, &ue[..3 * nl.len()]));
+                let dt = springs.traction(self.relative(i, du));
                 let de = [0, 1, 2].map(|r| t[r][0] * dt[0] + t[r][1] * dt[1] + t[r][2] * dt[2]);
-                if de != [0.0; 3] {
-                    fe[..3 * nl.len()].fill(0.0);
-                    add_traction_forces(&info.point, de, 1.0, &mut fe[..3 * nl.len()]);
-                    for (a, &j) in nl.iter().enumerate() {
-                        for c in 0..3 {
-                            os[3 * j + c] += fe[3 * a + c];
-                        }
-                    }
-                }
+                self.scatter(i, de, &mut fe, os);
             }
         });
     }

@@ -8,7 +8,7 @@ use super::release::Eval;
 use super::{Converged, IterationError, IterationRecord, JointField, Outcome, PointInfo};
 use crate::elements::{joint_points, JointSprings};
 use crate::fourier::{Family, Sections};
-use crate::joint_law::{JointState, PointHistory};
+use crate::joint_law::{state_counts, JointState, PointHistory};
 use crate::linear::{HarmonicFactor, Model};
 use crate::loads::HarmonicLoads;
 use crate::scene::JointLaw;
@@ -288,8 +288,8 @@ impl<'a> Setup<'a> {
             .zip(&released)
             .enumerate()
             .map(|(h, ((f, factor), g))| {
-                let scale = |v: &[f64]| -> Vec<f64> { v.iter().map(|a| self.lambda * a).collect() };
-                let mut loads = [scale(&f.symmetric), scale(&f.antisymmetric)];
+                let f = f.scaled(self.lambda);
+                let mut loads = [f.symmetric, f.antisymmetric];
                 for (vec, gk) in loads.iter_mut().zip(g) {
                     for (&k, gj) in self.joint_nodes.iter().zip(gk.chunks_exact(3)) {
                         for c in 0..3 {
@@ -413,13 +413,13 @@ impl<'a> Setup<'a> {
         start: Instant,
         solves: u32,
     ) -> IterationRecord {
-        let count = |k: JointState| ev.state.iter().filter(|&&s| s == k).count();
+        let (open, slip, stick) = state_counts(&ev.state);
         IterationRecord {
             iteration,
             ratio,
-            open: count(JointState::Open),
-            slip: count(JointState::Slip),
-            stick: count(JointState::Stick),
+            open,
+            slip,
+            stick,
             seconds: start.elapsed().as_secs_f64(),
             solves,
             load_factor: self.lambda,

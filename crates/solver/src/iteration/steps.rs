@@ -30,7 +30,7 @@ use super::{
     Method, Outcome, Start,
 };
 use crate::fourier::Sections;
-use crate::joint_law::{commit, exceeds_tensile_strength, PointHistory};
+use crate::joint_law::{commit, exceeds_tensile_strength, state_counts, PointHistory};
 use crate::linear::{HarmonicFactor, Model};
 use crate::loads::HarmonicLoads;
 use crate::scene::JointLaw;
@@ -170,8 +170,7 @@ pub fn stress_transfer_stepped<T>(
                 let displacements = setup.full_displacements(&x_c);
                 let field = setup.field(&conv.ev);
                 let observed = observe(lam_c, &displacements, &field);
-                let count = |k| conv.ev.state.iter().filter(|&&s| s == k).count();
-                use crate::joint_law::JointState::*;
+                let (open, slip, stick) = state_counts(&conv.ev.state);
                 let iterations = conv.history.len();
                 steps.push(LoadStep {
                     lambda: lam_c,
@@ -179,9 +178,9 @@ pub fn stress_transfer_stepped<T>(
                     solves: spent + conv.history.iter().map(|r| r.solves).sum::<u32>(),
                     rounds,
                     cutbacks,
-                    open: count(Open),
-                    slip: count(Slip),
-                    stick: count(Stick),
+                    open,
+                    slip,
+                    stick,
                     observed,
                 });
                 last = Some((conv, displacements));
