@@ -102,10 +102,25 @@ impl Pattern {
 /// Linear joint properties of one interface.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct JointModel {
-    /// Elastic stiffnesses.
+    /// Elastic stiffnesses (the joint law's).
     pub springs: JointSprings,
+    /// The stiffnesses assembled into K_m: `springs`, or for a stiff
+    /// nonlinear joint solved by Newton a softer reference (the difference
+    /// is released with the law's traction, see `iteration`).
+    pub assembled: JointSprings,
     /// Integration rule.
     pub rule: JointRule,
+}
+
+impl JointModel {
+    /// A joint whose springs are assembled as they are.
+    pub fn new(springs: JointSprings, rule: JointRule) -> Self {
+        JointModel {
+            springs,
+            assembled: springs,
+            rule,
+        }
+    }
 }
 
 /// Per-thread buffers of the element loop.
@@ -177,7 +192,7 @@ pub(crate) fn for_each_element_where(
             }
             s.coords.clear();
             s.coords.extend(el.bottom.iter().map(|&n| mesh.nodes[n]));
-            joint_stiffness(el.kind, &s.coords, &props.springs, m, props.rule, &mut s.ke);
+            joint_stiffness(el.kind, &s.coords, &props.assembled, m, props.rule, &mut s.ke);
             f(&s.nodes, &s.ke);
         }
     }

@@ -49,9 +49,51 @@ pub fn support_nodes(mesh: &Mesh, name: &str) -> Vec<usize> {
     nodes
 }
 
+/// `k h / E` above which a nonlinear joint solved by Newton is assembled
+/// with the softer reference `k_ref = REFERENCE_STIFFNESS E / h` (per
+/// component, never stiffer than the joint): every method converged up to
+/// `k h / E = 1` on Scene P (docs/stability.md).
+pub const REFERENCE_STIFFNESS: f64 = 1.0;
+
+/// The springs assembled for a nonlinear joint: `min(k, k_ref)` per
+/// component, `k_ref = REFERENCE_STIFFNESS E / h` with h its mean element
+/// length and E the smallest Young's modulus of its bodies.
+fn reference_springs(
+    mesh: &Mesh,
+    joint: &axijoint_mesh::Joint,
+    materials: &[crate::material::Elastic],
+    k: crate::elements::JointSprings,
+) -> crate::elements::JointSprings {
+    let n = joint.elements.len().max(1) as f64;
+    let h: f64 = joint
+        .elements
+        .iter()
+        .map(|e| {
+            let (a, b) = (mesh.nodes[e.bottom[0]], mesh.nodes[e.bottom[1]]);
+            (b[0] - a[0]).hypot(b[1] - a[1])
+        })
+        .sum::<f64>()
+        / n;
+    let e = joint
+        .bottom_bodies
+        .iter()
+        .chain(&joint.top_bodies)
+        .map(|&b| materials[b].e)
+        .fold(f64::INFINITY, f64::min);
+    if !(e.is_finite() && h > 0.0) {
+        return k;
+    }
+    let cap = REFERENCE_STIFFNESS * e / h;
+    crate::elements::JointSprings {
+        k_xi: k.k_xi.min(cap),
+        k_eta: k.k_eta.min(cap),
+        k_theta: k.k_theta.min(cap),
+    }
+}
+
 /// Builds the linear model of a scene on its mesh.
 pub fn build_model(scene: &Scene, mesh: Mesh) -> Result<Model, SolverError> {
-    let materials = mesh
+    let materials: Vec<_> = mesh
         .bodies
         .iter()
         .map(|b| scene.materials[&b.name].elastic())
@@ -65,10 +107,13 @@ pub fn build_model(scene: &Scene, mesh: Mesh) -> Result<Model, SolverError> {
                 .elements
                 .first()
                 .map_or(axijoint_mesh::JointKind::Lin6, |e| e.kind);
-            JointModel {
-                springs: config.springs(),
-                rule: config.rule(kind),
+            let mut joint = JointModel::new(config.springs(), config.rule(kind));
+            if config.law != crate::scene::JointLaw::Linear
+                && scene.solver.method == crate::scene::SolverMethod::Newton
+            {
+                joint.assembled = reference_springs(&mesh, j, &materials, joint.springs);
             }
+            joint
         })
         .collect();
     let fixed = support_flags(scene, &mesh);

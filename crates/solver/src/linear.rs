@@ -436,7 +436,7 @@ impl Model {
             }
         }
         for (j, props) in mesh.joints.iter().zip(&self.joints) {
-            let k = props.springs;
+            let k = props.assembled;
             if k.k_xi > 0.0 || k.k_eta > 0.0 || k.k_theta > 0.0 {
                 for e in &j.elements {
                     link(&mut parent, e.bottom[0], e.top[0]);

@@ -65,9 +65,11 @@ fn jointed(kind: CellKind, k: [f64; 3]) -> (Mesh, Vec<JointModel>) {
     let joints = mesh
         .joints
         .iter()
-        .map(|j| JointModel {
-            springs: JointSprings::new(k[0], k[1], k[2]).unwrap(),
-            rule: JointRule::default_for(j.elements[0].kind),
+        .map(|j| {
+            JointModel::new(
+                JointSprings::new(k[0], k[1], k[2]).unwrap(),
+                JointRule::default_for(j.elements[0].kind),
+            )
         })
         .collect();
     (mesh, joints)

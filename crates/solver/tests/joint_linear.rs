@@ -93,9 +93,11 @@ impl Solution {
         let joints: Vec<JointModel> = mesh
             .joints
             .iter()
-            .map(|j| JointModel {
-                springs: JointSprings::new(K_XI, K_ETA, K_THETA).unwrap(),
-                rule: rule.unwrap_or(JointRule::default_for(j.elements[0].kind)),
+            .map(|j| {
+                JointModel::new(
+                    JointSprings::new(K_XI, K_ETA, K_THETA).unwrap(),
+                    rule.unwrap_or(JointRule::default_for(j.elements[0].kind)),
+                )
             })
             .collect();
         let (model, u) = solve(mesh, Elastic::new(E, NU).unwrap(), joints, fixed, m, &[&f]);

@@ -684,9 +684,13 @@ const STIFF_ROWS: [f64; 4] = [0.5, 1.0, 12.5, 1e6];
 /// `k_eta h / E` = 0.5, 1, 12.5 and 1e6 (h = 0.125, the joint element
 /// length, checked on the mesh; table1 is 0.125). The pile head is bonded,
 /// so an equilibrium exists for every stiffness: 0.5 and 1 must converge;
-/// at 12.5 and 1e6 every method stalls (all keep the elastic joint
-/// stiffness in K_m), and the run must end with `StiffJoint` naming the
-/// joint, never with a "no equilibrium" (which would be a wrong diagnosis).
+/// at 12.5 and 1e6 the fixed-point methods stall (they keep the elastic
+/// joint stiffness in K_m) and must end with `StiffJoint` naming the
+/// joint, never with a "no equilibrium" (which would be a wrong
+/// diagnosis). Newton assembles a softer reference (k h / E = 1) and
+/// releases the difference, with the harmonic-coupled preconditioner: it
+/// converges one-shot at 12.5; at 1e6 one-shot it stalls, reported as
+/// `StiffJoint` (stepped loading: crates/solver/tests/loading.rs).
 ///
 /// Then the stiffest joint with a law that never yields (C and tensile
 /// strength 1e12): one iteration, and the bonded Scene P's result (the
@@ -706,7 +710,7 @@ fn case3_very_stiff_joint() {
                 let h = joint_element_length(&run.linear.model.mesh);
                 assert!((h / SCENE_P_H - 1.0).abs() < 0.05, "h = {h}");
             }
-            let want = if kh_over_e > 5.0 {
+            let want = if kh_over_e > 5.0 && !(name == "newton" && kh_over_e < 100.0) {
                 Category::StiffJoint
             } else {
                 Category::Converged
@@ -744,7 +748,10 @@ fn case3_very_stiff_joint() {
     for (name, m) in methods() {
         let s = solve(&sc, m, t_lin);
         expect(case, name, &s, Category::Converged);
-        assert_eq!(s.iterations, 1, "{name}: nothing to release");
+        // Nothing to release, but newton's softer reference in K_m releases
+        // the difference to the joint's spring: a few steps.
+        let most = if name == "newton" { 4 } else { 1 };
+        assert!(s.iterations <= most, "{name}: {} iterations", s.iterations);
         let err = (face_x(s.run.as_ref().expect("run"), "pile_end") / reference - 1.0).abs();
         row(case, name, &s, Some(err), "error: pile end vs bonded Scene P");
         assert!(err < 1e-4, "{name}: stiff joint vs bonded {err:.3e}");
@@ -752,14 +759,14 @@ fn case3_very_stiff_joint() {
 }
 
 /// A stiff joint on Scene P (k_eta h / E = 12.5, default sections) has an
-/// equilibrium (the pile head is bonded); the message must blame the
-/// joint's stiffness, give k h / E, and not claim that the load exceeds
-/// the joint's capacity.
+/// equilibrium (the pile head is bonded); where a method stalls (the
+/// fixed-point methods) the message must blame the joint's stiffness, give
+/// k h / E, and not claim that the load exceeds the joint's capacity.
 #[test]
 fn stiff_joint_is_not_reported_as_no_equilibrium() {
     let _guard = serial();
     let sc = stiff_scene_p("pile_footing.json", 12.5);
-    for (name, m) in methods() {
+    for (name, m) in methods().into_iter().filter(|(name, _)| *name != "newton") {
         let s = solve(&sc, m, 1.0);
         assert_eq!(s.category, Category::StiffJoint, "{name}: {}", s.message);
         assert!(s.message.contains("k h / E = 12.5"), "{name}: {}", s.message);

@@ -108,7 +108,7 @@ pub(super) fn residual_limit(history: &[IterationRecord], w: u32) -> Option<f64>
 
 /// Largest `k h / E` of joint `j`: its largest spring stiffness times its
 /// mean element length over the smallest Young's modulus of its bodies.
-fn joint_stiffness_ratio(setup: &Setup, j: usize) -> f64 {
+pub(super) fn joint_stiffness_ratio(setup: &Setup, j: usize) -> f64 {
     let model = setup.model;
     let (Some(joint), Some(props)) = (model.mesh.joints.get(j), model.joints.get(j)) else {
         return 0.0;

@@ -89,6 +89,26 @@ pub(super) fn release_tangent(law: &JointLaw, trial: [f64; 3], state: JointState
     }
 }
 
+/// The tangent of the release `k_a d - P(k d)` with respect to
+/// `t_a = k_a d` (`k_a` the springs assembled in K_m, k the law's):
+/// `I - (I - T) diag(k / k_a)`, T the law's [`release_tangent`]; T itself
+/// when `k_a = k`.
+fn reference_tangent(law: Tangent, k: &JointSprings, k_a: &JointSprings) -> Tangent {
+    let rho = [k.k_xi / k_a.k_xi, k.k_eta / k_a.k_eta, k.k_theta / k_a.k_theta];
+    if rho == [1.0; 3] || rho.iter().any(|r| !r.is_finite()) {
+        return law;
+    }
+    let t = law.unwrap_or([[0.0; 3]; 3]);
+    let mut out = [[0.0; 3]; 3];
+    for (r, row) in out.iter_mut().enumerate() {
+        for (q, v) in row.iter_mut().enumerate() {
+            let delta = if r == q { 1.0 } else { 0.0 };
+            *v = delta - (delta - t[r][q]) * rho[q];
+        }
+    }
+    Some(out)
+}
+
 impl Setup<'_> {
     /// The relative displacement at point `i` from the joint-node values
     /// `u` of one section.
@@ -136,14 +156,16 @@ impl Setup<'_> {
         g.fill(0.0);
         let mut fe = [0.0; 18];
         for (i, info) in self.points.iter().enumerate() {
-            let springs = self.model.joints[info.joint].springs;
+            let joint = &self.model.joints[info.joint];
+            let springs = joint.springs;
             let d = self.relative(i, u_s);
             let law = &self.laws[info.joint];
             let (p, state) = match history {
                 Some(h) => admissible_history(law, &springs, d, &h[i]),
                 None => admissible(law, &springs, d, &mut broken[i]),
             };
-            let trial = springs.traction(d);
+            // Released: what K_m's spring carries minus what the law allows.
+            let trial = joint.assembled.traction(d);
             let excess = [trial[0] - p[0], trial[1] - p[1], trial[2] - p[2]];
             self.scatter(i, excess, &mut fe, g);
             d_out[i] = d;
@@ -184,9 +206,10 @@ impl Setup<'_> {
         out.par_chunks_mut(n_p).enumerate().for_each(|(s, ts)| {
             for (i, (t, info)) in ts.iter_mut().zip(&self.points).enumerate() {
                 let k = s * self.points.len() + i;
-                let springs = self.model.joints[info.joint].springs;
+                let joint = &self.model.joints[info.joint];
+                let springs = joint.springs;
                 let law = &self.laws[info.joint];
-                *t = match self.history.as_ref().and_then(|h| h.get(k)) {
+                let law_tangent = match self.history.as_ref().and_then(|h| h.get(k)) {
                     Some(h) => release_tangent(
                         &effective_law(law, h),
                         relative_trial(&springs, ev.d[k], h),
@@ -194,6 +217,7 @@ impl Setup<'_> {
                     ),
                     None => release_tangent(law, springs.traction(ev.d[k]), ev.state[k]),
                 };
+                *t = reference_tangent(law_tangent, &springs, &joint.assembled);
             }
         });
     }
@@ -211,7 +235,7 @@ impl Setup<'_> {
                 let Some(t) = tangents[s * n_p + i] else {
                     continue;
                 };
-                let springs: JointSprings = self.model.joints[info.joint].springs;
+                let springs: JointSprings = self.model.joints[info.joint].assembled;
                 let dt = springs.traction(self.relative(i, du));
                 let de = [0, 1, 2].map(|r| t[r][0] * dt[0] + t[r][1] * dt[1] + t[r][2] * dt[2]);
                 self.scatter(i, de, &mut fe, os);

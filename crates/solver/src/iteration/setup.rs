@@ -26,18 +26,18 @@ pub(super) struct Setup<'a> {
     pub(super) laws: &'a [JointLaw],
     pub(super) sections: &'a Sections,
     loads: &'a [HarmonicLoads],
-    factor_of: Vec<&'a HarmonicFactor>,
+    pub(super) factor_of: Vec<&'a HarmonicFactor>,
     pub(super) points: Vec<PointInfo>,
     /// Joint nodes (global indices) and each point's nodes in that list.
     pub(super) joint_nodes: Vec<usize>,
     pub(super) local: Vec<Vec<usize>>,
     /// `phi[(s * n_h + h) * 2 + family] = (phi_rz, phi_theta)`.
     phi: Vec<(f64, f64)>,
-    n_h: usize,
+    pub(super) n_h: usize,
     /// The joint-node amplitudes of the elastic solution `K^-1 F`.
     u0: JointAmplitudes,
     /// Whether harmonic h has an antisymmetric family to solve.
-    both: Vec<bool>,
+    pub(super) both: Vec<bool>,
     /// The load factor lambda: the loads are `lambda F` (1 but in steps).
     pub(super) lambda: f64,
     /// The committed history of every (section, point) pair (index
@@ -219,7 +219,7 @@ impl<'a> Setup<'a> {
         }
     }
 
-    fn phi(&self, s: usize, h: usize, family: Family) -> (f64, f64) {
+    pub(super) fn phi(&self, s: usize, h: usize, family: Family) -> (f64, f64) {
         self.phi[(s * self.n_h + h) * 2 + family as usize]
     }
 
@@ -242,7 +242,7 @@ impl<'a> Setup<'a> {
     }
 
     /// Synthesizes the joint-node displacements at every section.
-    fn synthesize_all(&self, u: &JointAmplitudes, u_s: &mut [f64]) {
+    pub(super) fn synthesize_all(&self, u: &JointAmplitudes, u_s: &mut [f64]) {
         u_s.par_chunks_mut(self.per_section())
             .enumerate()
             .for_each(|(s, out)| self.synthesize(u, s, out));
@@ -369,7 +369,7 @@ impl<'a> Setup<'a> {
 
     /// Analyses section forces `x` into harmonic loads (the transpose of
     /// [`Setup::synthesize`] with the section weights).
-    fn analyse(&self, x: &[f64], released: &mut JointAmplitudes) {
+    pub(super) fn analyse(&self, x: &[f64], released: &mut JointAmplitudes) {
         let n_j = self.joint_nodes.len();
         released.par_iter_mut().enumerate().for_each(|(h, out)| {
             for s in 0..self.sections.len() {

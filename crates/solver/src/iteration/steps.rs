@@ -41,6 +41,9 @@ use serde::{Deserialize, Serialize};
 pub const BRACKET: f64 = 0.01;
 /// The smallest load increment (absolute, a fraction of the load).
 pub const MIN_INCREMENT: f64 = 1e-4;
+/// Consecutive failed attempts after which the run stops where it is (a
+/// limit load only if the last failure found no equilibrium).
+pub const MAX_CUTBACKS: u32 = 12;
 /// Debonding rounds within one step before the step counts as failed.
 pub const MAX_ROUNDS: u32 = 50;
 /// A converged step with at most this many iterations (Newton steps or
@@ -204,7 +207,7 @@ pub fn stress_transfer_stepped<T>(
                 spent += e.history().iter().map(|r| r.solves).sum::<u32>();
                 failed_at = Some(failed_at.map_or(target, |f| f.min(target)));
                 let gap = target - lam_c;
-                if gap <= (BRACKET * lam_c).max(MIN_INCREMENT) {
+                if gap <= (BRACKET * lam_c).max(MIN_INCREMENT) || cutbacks > MAX_CUTBACKS {
                     break Some(LimitLoad {
                         factor: lam_c,
                         failed_at: target,
