@@ -6,7 +6,8 @@
 //! - 1.1 T_max, stepped (default `{"steps": "auto"}`): exit status 3, the
 //!   limit load factor ~ 1 / 1.1, every output of the last converged step;
 //! - 0.9 T_max, stepped: exit 0, load factor 1;
-//! - 1.1 T_max, `"one_shot"`: exit 3, "no equilibrium";
+//! - 1.1 T_max, `"one_shot"`: exit 3, "no equilibrium", the last iterate
+//!   written and marked `"converged": false`;
 //! - a malformed `solver.loading`: exit 1, the message names the key path.
 
 mod common;
@@ -361,7 +362,9 @@ fn below_capacity_reaches_the_whole_load() {
 }
 
 /// 1.1 T_max in one shot (the paper's iteration): no equilibrium, exit 3,
-/// nothing written; 0.9 T_max in one shot converges without a load path.
+/// the last iterate written for diagnosis and marked not converged (its
+/// history ends where the error says, the joint states are there); 0.9
+/// T_max in one shot converges without a load path.
 #[test]
 fn one_shot_beyond_capacity_finds_no_equilibrium() {
     let dir = tempfile::tempdir().unwrap();
@@ -374,7 +377,26 @@ fn one_shot_beyond_capacity_finds_no_equilibrium() {
         "exit status exactly 3\n{stdout}\n{stderr}"
     );
     assert!(stderr.contains("no equilibrium"), "{stderr}");
-    assert!(!out.join("solution.json").exists(), "no solution is written");
+    assert!(stderr.contains("last iterate is written"), "{stderr}");
+    let extra = read_json(&out.join("solution.json"))["extra"].clone();
+    assert_eq!(extra["converged"], json!(false));
+    assert!(extra["error"]
+        .as_str()
+        .unwrap_or_default()
+        .contains("no equilibrium"));
+    let history = extra["history"].as_array().expect("history");
+    assert!(!history.is_empty());
+    let summary = read_json(&out.join("summary.json"));
+    assert_eq!(summary["converged"], json!(false));
+    assert!(out.join("joint_contact.csv").is_file() && out.join("convergence.csv").is_file());
+    // The written iterate is the one the error names.
+    let last = history.last().unwrap();
+    let at = format!("at iteration {})", last["iteration"]);
+    assert!(
+        extra["error"].as_str().unwrap_or_default().contains(&at),
+        "{at}: {}",
+        extra["error"]
+    );
     let left = leftovers(dir.path());
     assert!(left.is_empty(), "temporary files left: {left:?}");
 

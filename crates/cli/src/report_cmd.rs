@@ -68,6 +68,8 @@ pub fn report(dir: &Path, compare: &[PathBuf]) -> Result<()> {
         "joints": joint_summary,
         "harmonic_check": h.extra.get("harmonic_check"),
         "auto_harmonics": h.extra.get("auto_harmonics"),
+        "converged": h.extra.get("converged").cloned().unwrap_or(json!(true)),
+        "error": h.extra.get("error"),
         "loading": h.extra.get("loading"),
         "load_factor": h.extra.get("load_factor"),
         "limit_load_factor": h.extra.get("limit_load_factor"),

@@ -2,9 +2,9 @@
 
 use anyhow::{Context, Result};
 use axijoint_report::cuts::profile_values;
-use axijoint_solver::driver::{solution_header, solve_scene, solve_scene_auto, Run};
-use axijoint_solver::iteration::IterationRecord;
-use axijoint_solver::results::{write_solution, JointFieldFile, SolutionHeader};
+use axijoint_solver::driver::{solution_header, solve_scene_auto, solve_scene_with, LinearRun, Run};
+use axijoint_solver::iteration::{IterationError, IterationRecord};
+use axijoint_solver::results::{read_solution, write_solution, JointFieldFile, SolutionHeader};
 use axijoint_solver::scene::{Harmonics, Scene};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -135,7 +135,27 @@ pub fn solve_to(scene: &Scene, out: &Path, quiet: bool) -> Result<SolutionHeader
             progress,
         )
     } else {
-        solve_scene(scene, Some(&msh), progress).map(|run| (scene.clone(), run))
+        // A one-shot run that stops writes its last iterate, marked.
+        let written = std::cell::RefCell::new(None);
+        let on_failure = |linear: &LinearRun, e: &IterationError| {
+            *written.borrow_mut() = Some(write_last_iterate(scene, linear, e, &msh, out));
+        };
+        match solve_scene_with(scene, Some(&msh), progress, on_failure) {
+            Ok(run) => Ok((scene.clone(), run)),
+            Err(e) => {
+                bar.finish_and_clear();
+                return Err(match written.into_inner() {
+                    Some(Ok(())) => anyhow::Error::new(e).context(format!(
+                        "the last iterate is written to {} (marked \"converged\": false; not an equilibrium)",
+                        out.display()
+                    )),
+                    Some(Err(w)) => {
+                        anyhow::Error::new(e).context(format!("writing the last iterate failed too: {w:#}"))
+                    }
+                    None => e.into(),
+                });
+            }
+        }
     };
     bar.finish_and_clear();
     let (solved, run): (Scene, Run) = result?;
@@ -185,6 +205,35 @@ pub fn solve_to(scene: &Scene, out: &Path, quiet: bool) -> Result<SolutionHeader
     });
     write_solution(out, &header, &run.linear.displacements, &msh, joints.as_ref())?;
     Ok(header)
+}
+
+/// Writes the last iterate of a one-shot run that stopped: the solution
+/// folder with `extra.converged = false`, the error, the history and the
+/// joint field of that iterate.
+fn write_last_iterate(
+    scene: &Scene,
+    linear: &LinearRun,
+    e: &IterationError,
+    msh: &Path,
+    out: &Path,
+) -> Result<()> {
+    let Some(last) = e.last() else {
+        return Ok(());
+    };
+    let mut header = solution_header(scene, linear);
+    header.extra = serde_json::json!({
+        "converged": false,
+        "error": e.to_string(),
+        "iterations": last.history.len(),
+        "sections_deg": last.field.sections.theta.iter().map(|t| t.to_degrees()).collect::<Vec<_>>(),
+        "history": last.history,
+        "loading": scene.solver.loading,
+        "note": "not converged: the displacements and joint states are those of the last iterate, not an equilibrium",
+    });
+    let springs: Vec<_> = linear.model.joints.iter().map(|j| j.springs).collect();
+    let joints = JointFieldFile::new(&linear.model.mesh, &springs, &last.field);
+    write_solution(out, &header, &linear.displacements, msh, Some(&joints))?;
+    Ok(())
 }
 
 /// The folder of the comparison run without joints, inside a solution folder.
@@ -349,7 +398,21 @@ pub fn run_run(args: &RunArgs) -> Result<()> {
         Some(s) => s.clone(),
         None => default_scene()?,
     };
-    let (scene, out, header) = solve_and_write(&scene, &args.common)?;
+    let (scene, out, header) = match solve_and_write(&scene, &args.common) {
+        Ok(v) => v,
+        Err(e) => {
+            // A stopped one-shot run wrote its last iterate: report it too.
+            let out = args
+                .common
+                .output
+                .clone()
+                .unwrap_or_else(|| default_output(&scene));
+            if read_solution(&out).is_ok_and(|s| s.header.extra["converged"] == serde_json::json!(false)) {
+                crate::report_cmd::report(&out, &[])?;
+            }
+            return Err(e);
+        }
+    };
     if !scene.joints.is_empty() {
         // The paper's comparison (its dashed lines): the same scene bonded.
         let mut bonded = scene.clone();

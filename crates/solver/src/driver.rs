@@ -739,7 +739,20 @@ fn harmonic_check(
 pub fn solve_scene(
     scene: &Scene,
     keep_msh: Option<&Path>,
+    progress: impl FnMut(&crate::iteration::IterationRecord),
+) -> Result<Run, SolverError> {
+    solve_scene_with(scene, keep_msh, progress, |_, _| {})
+}
+
+/// [`solve_scene`]; when a one-shot iteration stops without a solution,
+/// `on_failure` sees the linear run with the displacements of the last
+/// iterate (no reactions: it is not an equilibrium) and the error, before
+/// the error is returned.
+pub fn solve_scene_with(
+    scene: &Scene,
+    keep_msh: Option<&Path>,
     mut progress: impl FnMut(&crate::iteration::IterationRecord),
+    on_failure: impl FnOnce(&LinearRun, &crate::iteration::IterationError),
 ) -> Result<Run, SolverError> {
     use crate::scene::JointLaw;
     let nonlinear = scene.joints.values().any(|j| j.law != JointLaw::Linear);
@@ -757,7 +770,18 @@ pub fn solve_scene(
     let sections = scene_sections(scene, &linear.loads)?;
     let m = scene.harmonics();
     let t = Instant::now();
-    let (outcome, load_path) = iterate(scene, &linear, m, &sections, &mut progress)?;
+    let (outcome, load_path) = match iterate(scene, &linear, m, &sections, &mut progress) {
+        Ok(v) => v,
+        Err(SolverError::Iteration(e)) => {
+            if let Some(last) = e.last() {
+                linear.displacements = padded(&last.displacements, &linear.loads);
+                linear.reactions = Vec::new();
+                on_failure(&linear, &e);
+            }
+            return Err(SolverError::Iteration(e));
+        }
+        Err(e) => return Err(e),
+    };
     let complete = load_path.as_ref().is_none_or(|p| p.limit.is_none());
     let harmonic_check = if m >= 2 && !complete {
         Some(HarmonicCheck {

@@ -18,6 +18,7 @@ pub(super) fn not_converged(
     let stiffness = joint_stiffness_ratio(setup, worst);
     if stiffness > STIFF_JOINT {
         return IterationError::StiffJoint {
+            last: None,
             joint: setup
                 .model
                 .mesh
@@ -34,6 +35,7 @@ pub(super) fn not_converged(
         };
     }
     IterationError::NotConverged {
+        last: None,
         iterations: history.len() as u32,
         ratio,
         epsilon: settings.epsilon,
@@ -166,6 +168,7 @@ pub(super) fn no_equilibrium(
     let stiffness = joint_stiffness_ratio(setup, worst);
     if stiffness > STIFF_JOINT {
         return IterationError::StiffJoint {
+            last: None,
             joint,
             stiffness,
             reason: reason.to_string(),
@@ -174,6 +177,7 @@ pub(super) fn no_equilibrium(
         };
     }
     IterationError::NoEquilibrium {
+        last: None,
         joint,
         reason: reason.to_string(),
         open: last.open,

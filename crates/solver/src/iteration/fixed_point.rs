@@ -3,7 +3,7 @@
 
 use super::diagnosis::{no_equilibrium, not_converged, residual_limit, unresolved};
 use super::setup::Setup;
-use super::{Converged, IterationError, IterationRecord, IterationSettings, Start};
+use super::{Converged, Failure, IterationRecord, IterationSettings, Start};
 use std::time::Instant;
 
 /// Anderson mixing (type II) of a fixed point `x = Psi(x)` from the
@@ -90,7 +90,7 @@ pub(super) fn fixed_point(
     settings: &IterationSettings,
     from: Start,
     progress: &mut dyn FnMut(&IterationRecord),
-) -> Result<Converged, IterationError> {
+) -> Result<Converged, Box<Failure>> {
     let start = Instant::now();
     // x: the released section forces applied; ev.g: those released by the
     // current solution.
@@ -124,17 +124,19 @@ pub(super) fn fixed_point(
         progress(&record);
         history.push(record);
         if !ratio.is_finite() || u.iter().flatten().flatten().any(|v| !v.is_finite()) {
-            return Err(no_equilibrium(
-                setup,
-                &f,
-                "the solution is not finite",
-                record,
-                history,
+            return Err(Failure::new(
+                no_equilibrium(setup, &f, "the solution is not finite", record, history),
+                x,
+                ev,
             ));
         }
         if !nothing_released {
             if let Some(reason) = unresolved(setup, &x, psi0, settings.epsilon) {
-                return Err(no_equilibrium(setup, &f, &reason, record, history));
+                return Err(Failure::new(
+                    no_equilibrium(setup, &f, &reason, record, history),
+                    x,
+                    ev,
+                ));
             }
         }
         if nothing_released || ((it > 1 || warm) && ratio < settings.epsilon) {
@@ -178,12 +180,20 @@ pub(super) fn fixed_point(
                     } else {
                         reason
                     };
-                    return Err(no_equilibrium(setup, &f, &reason, record, history));
+                    return Err(Failure::new(
+                        no_equilibrium(setup, &f, &reason, record, history),
+                        x,
+                        ev,
+                    ));
                 }
             }
             if ratio > 1e6 {
                 let reason = format!("the residual grows (ratio {ratio:.3e})");
-                return Err(no_equilibrium(setup, &f, &reason, record, history));
+                return Err(Failure::new(
+                    no_equilibrium(setup, &f, &reason, record, history),
+                    x,
+                    ev,
+                ));
             }
         }
         // A jump of the residual restarts the mixing from a plain step.
@@ -194,5 +204,9 @@ pub(super) fn fixed_point(
         x = mixer.next(&x, &f, damping);
         last_f = f;
     }
-    Err(not_converged(setup, &last_f, settings, history))
+    Err(Failure::new(
+        not_converged(setup, &last_f, settings, history),
+        x,
+        ev,
+    ))
 }

@@ -191,6 +191,9 @@ pub enum IterationError {
         iteration: u32,
         /// The history so far.
         history: Vec<IterationRecord>,
+        /// The last iterate of a one-shot run (joint states, displacements),
+        /// for diagnosis; not an equilibrium.
+        last: Option<Box<Outcome>>,
     },
     /// The iteration stalled on a joint much stiffer than its elements:
     /// whether an equilibrium exists cannot be told.
@@ -207,6 +210,9 @@ pub enum IterationError {
         iteration: u32,
         /// The history so far.
         history: Vec<IterationRecord>,
+        /// The last iterate of a one-shot run (joint states, displacements),
+        /// for diagnosis; not an equilibrium.
+        last: Option<Box<Outcome>>,
     },
     /// The iteration limit was reached while still converging.
     #[error("not converged in {iterations} iterations: residual ratio {ratio:.3e} > epsilon {epsilon:.1e}; it was still decreasing: raise solver.max_iterations (if it decreases ever more slowly, the load may be close to what the joints can carry)")]
@@ -219,6 +225,9 @@ pub enum IterationError {
         epsilon: f64,
         /// The history.
         history: Vec<IterationRecord>,
+        /// The last iterate of a one-shot run (joint states, displacements),
+        /// for diagnosis; not an equilibrium.
+        last: Option<Box<Outcome>>,
     },
     /// Debonding did not settle within a load step.
     #[error("the debonded points did not settle in {rounds} rounds of one load step")]
@@ -243,6 +252,27 @@ impl IterationError {
             | IterationError::Rounds { history, .. } => history,
             IterationError::Setup(_) => &[],
         }
+    }
+
+    /// The last iterate, if the error carries one.
+    pub fn last(&self) -> Option<&Outcome> {
+        match self {
+            IterationError::NoEquilibrium { last, .. }
+            | IterationError::NotConverged { last, .. }
+            | IterationError::StiffJoint { last, .. } => last.as_deref(),
+            _ => None,
+        }
+    }
+
+    /// With the last iterate `outcome`.
+    fn with_last(mut self, outcome: Outcome) -> Self {
+        if let IterationError::NoEquilibrium { last, .. }
+        | IterationError::NotConverged { last, .. }
+        | IterationError::StiffJoint { last, .. } = &mut self
+        {
+            *last = Some(Box::new(outcome));
+        }
+        self
     }
 
     /// Puts `earlier` records (e.g. earlier rounds of a step) before the history.
@@ -272,6 +302,20 @@ impl Start {
             x0: vec![0.0; setup.len()],
             psi_ref: None,
         }
+    }
+}
+
+/// A stopped iteration: why, and its last iterate (released forces and
+/// their evaluation).
+pub(super) struct Failure {
+    error: IterationError,
+    x: Vec<f64>,
+    ev: release::Eval,
+}
+
+impl Failure {
+    fn new(error: IterationError, x: Vec<f64>, ev: release::Eval) -> Box<Self> {
+        Box::new(Failure { error, x, ev })
     }
 }
 
@@ -311,12 +355,21 @@ pub fn stress_transfer_from(
 ) -> Result<Outcome, IterationError> {
     let setup = Setup::new(model, factors, loads, laws, sections, elastic)?;
     let start = Start::zero(&setup);
-    let conv = match settings.method {
+    let result = match settings.method {
         Method::Plain => fixed_point(&setup, 0, settings, start, &mut progress),
         Method::Anderson { depth } => fixed_point(&setup, depth, settings, start, &mut progress),
         Method::Newton => newton(&setup, settings, start, &mut progress),
-    }?;
-    Ok(setup.finish(&conv.x, conv.ev, conv.history))
+    };
+    match result {
+        Ok(conv) => Ok(setup.finish(&conv.x, conv.ev, conv.history)),
+        // The last iterate, for the user to see where it stopped (one full
+        // solve).
+        Err(f) => {
+            let history = f.error.history().to_vec();
+            let last = setup.finish(&f.x, f.ev, history);
+            Err(f.error.with_last(last))
+        }
+    }
 }
 
 fn dot(a: &[f64], b: &[f64]) -> f64 {

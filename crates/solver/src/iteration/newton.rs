@@ -5,7 +5,7 @@ use super::diagnosis::{joint_stiffness_ratio, no_equilibrium, not_converged, unr
 use super::precondition::BlockPreconditioner;
 use super::release::Tangent;
 use super::setup::{JointAmplitudes, Setup};
-use super::{axpy, dot, norm, Converged, IterationError, IterationRecord, IterationSettings, Start};
+use super::{axpy, dot, norm, Converged, Failure, IterationRecord, IterationSettings, Start};
 use std::collections::VecDeque;
 use std::time::Instant;
 
@@ -241,7 +241,7 @@ pub(super) fn newton(
     settings: &IterationSettings,
     from: Start,
     progress: &mut dyn FnMut(&IterationRecord),
-) -> Result<Converged, IterationError> {
+) -> Result<Converged, Box<Failure>> {
     let start = Instant::now();
     let nx = setup.len();
     let mut released = setup.zero_loads();
@@ -270,12 +270,10 @@ pub(super) fn newton(
     progress(&record);
     let mut history = vec![record];
     if !psi_first.is_finite() {
-        return Err(no_equilibrium(
-            setup,
-            &res,
-            "the solution is not finite",
-            record,
-            history,
+        return Err(Failure::new(
+            no_equilibrium(setup, &res, "the solution is not finite", record, history),
+            x,
+            acc,
         ));
     }
     if nothing_released || (from.psi_ref.is_some() && first_ratio < settings.epsilon) {
@@ -388,16 +386,18 @@ pub(super) fn newton(
         progress(&record);
         history.push(record);
         if !ratio.is_finite() || !r_norm.is_finite() {
-            return Err(no_equilibrium(
-                setup,
-                &res,
-                "the solution is not finite",
-                record,
-                history,
+            return Err(Failure::new(
+                no_equilibrium(setup, &res, "the solution is not finite", record, history),
+                x,
+                acc,
             ));
         }
         if let Some(reason) = unresolved(setup, &x, psi0, settings.epsilon) {
-            return Err(no_equilibrium(setup, &res, &reason, record, history));
+            return Err(Failure::new(
+                no_equilibrium(setup, &res, &reason, record, history),
+                x,
+                acc,
+            ));
         }
         if ratio < settings.epsilon && evaluated {
             return Ok(Converged { x, ev: acc, history });
@@ -419,11 +419,19 @@ pub(super) fn newton(
         let reason =
             reason.or_else(|| (ratio > 1e6).then(|| format!("the residual grows (ratio {ratio:.3e})")));
         if let Some(reason) = reason {
-            return Err(no_equilibrium(setup, &res, &reason, record, history));
+            return Err(Failure::new(
+                no_equilibrium(setup, &res, &reason, record, history),
+                x,
+                acc,
+            ));
         }
         if total >= settings.max_iterations {
             break;
         }
     }
-    Err(not_converged(setup, &res, settings, history))
+    Err(Failure::new(
+        not_converged(setup, &res, settings, history),
+        x,
+        acc,
+    ))
 }

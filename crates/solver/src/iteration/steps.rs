@@ -268,7 +268,8 @@ fn solve_step(
             Method::Anderson { depth } => fixed_point(setup, depth, settings, start, progress),
             Method::Newton => newton(setup, settings, start, progress),
         }
-        .map_err(|mut e| {
+        .map_err(|f| {
+            let mut e = f.error;
             e.prepend_history(&records);
             e
         })?;
