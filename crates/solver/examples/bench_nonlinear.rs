@@ -15,8 +15,10 @@
 //!   `Model::factorize_all(0..=M)` (assembly and numeric Cholesky of every
 //!   harmonic, in parallel, `factorize_s`), the solve of the loads
 //!   (`solve_s`) and the reactions (`reactions_s`); `linear_s` is their sum;
-//! - per method: the stress-transfer iteration with harmonics 0..=M
-//!   (`scene_sections` + `iteration::stress_transfer`, `iterate_s`), the
+//! - per method: the nonlinear solution with harmonics 0..=M along the
+//!   scene format's default load path (`{"steps": "auto"}`: stepped, the
+//!   history law; `scene_sections` + `iteration::stress_transfer_stepped`,
+//!   `iterate_s`), the
 //!   M/2 comparison `solve_scene` runs after it (`check_s`) and the
 //!   reactions of the final displacements (`final_reactions_s`).
 //!
@@ -54,10 +56,10 @@ use axijoint_solver::driver::{
     build_model, iteration_settings, mesh_scene, reactions, scene_sections, solve_loads, solve_scene,
     Displacements,
 };
-use axijoint_solver::iteration::{stress_transfer_from, Outcome};
+use axijoint_solver::iteration::{stress_transfer_from, stress_transfer_stepped, Outcome, StepControl};
 use axijoint_solver::linear::{HarmonicFactor, Model};
 use axijoint_solver::loads::{assemble_loads, HarmonicLoads};
-use axijoint_solver::scene::{JointLaw, Scene, SolverMethod, SolverSettings};
+use axijoint_solver::scene::{JointLaw, Loading, Scene, SolverMethod, SolverSettings};
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
@@ -222,17 +224,37 @@ fn iterate(
     let sections = scene_sections(scene, loads).map_err(|e| e.to_string())?;
     let loads: Vec<HarmonicLoads> = loads.iter().filter(|h| h.m <= m).cloned().collect();
     let settings = iteration_settings(scene);
-    stress_transfer_from(
-        model,
-        factors,
-        &loads,
-        laws,
-        &sections,
-        &settings,
-        Some(elastic),
-        |_| {},
-    )
-    .map_err(|e| {
+    let control = match scene.solver.loading {
+        Loading::OneShot => None,
+        Loading::Steps(n) => Some(StepControl::steps(n)),
+        Loading::Auto => Some(StepControl::AUTO),
+    };
+    let result = match control {
+        None => stress_transfer_from(
+            model,
+            factors,
+            &loads,
+            laws,
+            &sections,
+            &settings,
+            Some(elastic),
+            |_| {},
+        ),
+        Some(control) => stress_transfer_stepped(
+            model,
+            factors,
+            &loads,
+            laws,
+            &sections,
+            &settings,
+            control,
+            Some(elastic),
+            |_| {},
+            |_, _, _| (),
+        )
+        .map(|s| s.outcome),
+    };
+    result.map_err(|e| {
         let h = e.history();
         format!(
             "{e} (after {} iterations, ratio {:.2e})",
