@@ -1,5 +1,5 @@
 // A stiff cylindrical block of radius a on a larger base: the verification
-// cases of DESIGN.md 6 for nonlinear joints (torsional partial slip, uplift
+// cases of docs/theory.md section 15 for nonlinear joints (torsional partial slip, uplift
 // under eccentric compression). Meridional half plane: gmsh x = r, gmsh y = z.
 //
 //   z = hb      +------+                  block_top (loaded)

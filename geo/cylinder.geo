@@ -1,4 +1,4 @@
-// Solid cylinder of radius a and length L (verification cases, DESIGN.md 6).
+// Solid cylinder of radius a and length L (verification cases, docs/theory.md section 15).
 // Meridional half plane: gmsh x = r, gmsh y = z.
 //
 //   z = L  +------+   top

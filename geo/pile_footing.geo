@@ -1,4 +1,4 @@
-// Scene P (DESIGN.md section 5): pile head embedded in a footing.
+// Scene P (docs/theory.md section 14): pile head embedded in a footing.
 // Meridional half plane: gmsh x = r, gmsh y = z (metres).
 //
 //   z = 2.0  +------------------------------+        footing_top (free)

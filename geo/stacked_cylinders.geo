@@ -1,6 +1,6 @@
 // Two solid cylinders of radius a stacked on the axis, lower z in [0, L1],
 // upper z in [L1, L1 + L2], meeting on the horizontal curve "interface"
-// (a joint in the verification of DESIGN.md 6). Meridional half plane:
+// (a joint in the verification cases of docs/theory.md section 15). Meridional half plane:
 // gmsh x = r, gmsh y = z.
 //
 //   z = L1 + L2  +-------+   top

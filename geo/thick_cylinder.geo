@@ -1,6 +1,6 @@
 // Cylinder r in [hole, a], z in [0, L] with a structured (transfinite) mesh:
 // the twin of cylinder.geo for verification that needs parallelogram cells
-// or nested refinements (DESIGN.md 6: the Lame thick cylinder; exactness of
+// or nested refinements (docs/theory.md section 15: the Lame thick cylinder; exactness of
 // the serendipity Q8, which reproduces quadratic fields only on
 // parallelograms). Meridional half plane: gmsh x = r, gmsh y = z.
 //

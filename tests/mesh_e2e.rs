@@ -1,5 +1,5 @@
 //! End-to-end tests of the mesh stage: real gmsh runs of `geo/pile_footing.geo`
-//! (Scene P, DESIGN.md section 5), joint insertion and validation errors.
+//! (Scene P, docs/theory.md section 14), joint insertion and validation errors.
 //!
 //! Scene P: pile r <= 0.5, -1.5 <= z <= 1.0; footing [0, 3] x [0, 2] minus the
 //! embedded pile (r <= 0.5, 0 <= z <= 1). Joint `pile_side` (r = 0.5,

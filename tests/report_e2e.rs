@@ -30,7 +30,7 @@ const CUT_HEADER: [&str; 11] = [
     "tau_ztheta [MPa]",
 ];
 
-/// Pure bending of a solid cylinder (DESIGN.md section 6): t_z = s r cos(theta)
+/// Pure bending of a solid cylinder (docs/theory.md section 15): t_z = s r cos(theta)
 /// on z = L, v = 0 on z = 0, u = 0 at the origin. Exact: sigma_z = s r cos,
 /// all other stresses 0; quadratic elements reproduce it, so every sampled
 /// point of the cut matches to 1e-6 relative (of s a) at theta = 0 and pi.

@@ -1,4 +1,4 @@
-//! End-to-end tests of `axijoint solve` on Scene P (DESIGN.md section 5):
+//! End-to-end tests of `axijoint solve` on Scene P (docs/theory.md section 14):
 //! the bonded and linear-joint variants, the solution folder, its safety
 //! rules, and reading it back.
 

@@ -20,7 +20,7 @@ const DEFAULT_PEER_SIZES: [f64; 3] = [0.2, 0.14, 0.1];
 const ABOUT: &str = "Accuracy against cost of axijoint on Scene P (and of a CalculiX 3D peer)";
 
 const LONG_ABOUT: &str = "\
-Accuracy against cost of axijoint on Scene P (DESIGN.md section 5), and of a
+Accuracy against cost of axijoint on Scene P (docs/theory.md section 14), and of a
 CalculiX 3D peer. Writes OUT/accuracy.csv (one row per run), OUT/accuracy.svg
 and .png (the chart) and OUT/accuracy_summary.csv, and prints the summary.
 

@@ -29,7 +29,7 @@
 //! way round; VTK 9's face tables and volume computations use this one.)
 //!
 //! **Points** are not shared between bodies: each body has its own rings of
-//! points, so the stress of each body is its own (DESIGN.md section 4). Points
+//! points, so the stress of each body is its own (docs/theory.md section 13, stresses and cuts). Points
 //! on the axis (r = 0) are kept once per section (coincident duplicates): the
 //! cells next to the axis are degenerate (a zero-area face), which ParaView
 //! draws and filters without complaint, and each duplicate carries the value

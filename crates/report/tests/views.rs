@@ -1,7 +1,7 @@
 //! Views: the revolved `.vtu` (read back with vtkio, an independent reader)
 //! and the gmsh view (opened by gmsh itself).
 //!
-//! - Pure bending of a cylinder (DESIGN.md section 6), every meridional cell
+//! - Pure bending of a cylinder (docs/theory.md section 15), every meridional cell
 //!   kind: point and cell counts per VTK type, the displacement at every
 //!   point equal to the closed form, the stress (quadratic cells) equal to
 //!   sigma_zz = s x, every cell's volume positive from its VTK node order and

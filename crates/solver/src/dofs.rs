@@ -3,7 +3,7 @@
 //!
 //! On the axis (r = 0) the unknowns (u, v, w) of a node are replaced by
 //! (p, v, q) with `u = p + q`, `w = q - p`. The single-valuedness conditions
-//! of DESIGN.md section 1 then only pin variables:
+//! (docs/theory.md section 4) then only pin variables:
 //!
 //! | m | condition | pinned |
 //! |---|---|---|

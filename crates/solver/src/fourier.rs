@@ -1,5 +1,5 @@
 //! Theta sections and the discrete Fourier pair between harmonic amplitudes
-//! and section values (DESIGN.md section 3, steps 1 and 3).
+//! and section values (the paper's steps (1) and (3); docs/theory.md sections 8 and 10).
 //!
 //! Synthesis: `x(theta_s) = sum_m phi_m(theta_s) a_m`; analysis:
 //! `f_m = sum_s w_s phi_m(theta_s) g(theta_s)`, the trapezoid rule for the

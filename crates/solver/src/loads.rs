@@ -3,7 +3,7 @@
 //! # Amplitudes and nodal forces
 //!
 //! A load of harmonic m is given by amplitudes `(t_r, t_z, t_theta)`
-//! (DESIGN.md section 1):
+//! (docs/theory.md section 1):
 //!
 //! | family | t_r, t_z | t_theta |
 //! |---|---|---|

@@ -1,8 +1,8 @@
-//! Whole models against closed-form elasticity solutions (DESIGN.md 6):
+//! Whole models against closed-form elasticity solutions (docs/theory.md section 15):
 //! pure bending (harmonic 1, both families), torsion (m = 0) and a slender
 //! cantilever under tip shear (harmonic 1, Timoshenko).
 //!
-//! Source: the closed forms of DESIGN.md section 6 (Timoshenko & Goodier,
+//! Source: the closed forms of docs/theory.md section 15 (Timoshenko & Goodier,
 //! Theory of Elasticity, pure bending of prismatic bars, sec. 102; torsion of
 //! a circular shaft, sec. 104); the circular-section shear coefficient
 //! kappa = 6 (1 + nu) / (7 + 6 nu) of G. R. Cowper, "The shear coefficient in

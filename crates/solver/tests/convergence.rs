@@ -2,7 +2,7 @@
 //!
 //! Source: the Lame solution of a thick-walled cylinder under internal
 //! pressure in plane strain (Timoshenko & Goodier, Theory of Elasticity,
-//! sec. 28; DESIGN.md 6) and the torsion of a circular shaft,
+//! sec. 28; docs/theory.md section 15) and the torsion of a circular shaft,
 //! u_theta = T r z / (G J) (sec. 104). Rates: a priori estimates of the
 //! Galerkin method for elements of degree p (Ciarlet, The Finite Element
 //! Method for Elliptic Problems, ch. 3): L2 displacement error h^(p+1),

@@ -1,7 +1,7 @@
 //! Equilibrium of the solved models in every harmonic, and singular
 //! (unsupported) models.
 //!
-//! Source: DESIGN.md section 1 (families, c_m, axis conditions) and the
+//! Source: docs/theory.md sections 1-4 (families, c_m, axis conditions) and the
 //! definition of the nodal loads f_m = c_m * (force per radian amplitude).
 //! A node ring at (r, z) with nodal forces (f_r, f_z, f_theta) of harmonic m
 //! carries per radian F(theta) = (f_r g_r, f_z g_z, f_theta g_theta) / c_m
@@ -24,7 +24,7 @@
 //! Goal: the support reactions R = K u - f (on supported DOFs only) balance
 //! the applied loads: sum of resultants zero to 1e-9 relative; K u - f = 0
 //! at every free DOF (at axis nodes: the free combinations of the axis
-//! variables, DESIGN.md 1); and Clapeyron's u . f = u . K u. The tolerance
+//! variables, docs/theory.md section 4); and Clapeyron's u . f = u . K u. The tolerance
 //! 1e-9 is round-off of a sparse Cholesky on ~1e3-1e4 unknowns (measured
 //! ~1e-13), with room to spare; a missing element contribution, a wrong
 //! axis treatment or a load on the wrong DOF gives O(1).

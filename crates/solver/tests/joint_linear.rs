@@ -1,6 +1,6 @@
-//! Two stacked cylinders joined by a linear joint (DESIGN.md 2 and 6).
+//! Two stacked cylinders joined by a linear joint (docs/theory.md sections 6 and 15).
 //!
-//! Source: DESIGN.md section 6 ("the joint adds exactly p / k_eta of
+//! Source: docs/theory.md section 15 ("the joint adds exactly p / k_eta of
 //! shortening and a rotation s / k_eta"); the joint element of the paper's
 //! Eqs. 1-9 as springs p = k d between the faces.
 //!

@@ -1,7 +1,7 @@
 //! The semi-smooth Newton-Krylov method (issue 6, item 1: "a Newton-type
 //! method that still never factorizes a coupled system").
 //!
-//! Source: DESIGN.md section 3 (the fixed point `x = Psi(x)` on the released
+//! Source: docs/theory.md sections 8-9 (the fixed point `x = Psi(x)` on the released
 //! section forces, `Psi(x) = release(u_F + W x)`, `W = S K^-1 A`), the
 //! module documentation of `axijoint_solver::iteration` (`J = D(x) W - I`,
 //! D the joint tangent).

@@ -1,7 +1,7 @@
 //! Nonlinear joints (issue 4): the stress-transfer iteration against closed
 //! forms and independent references.
 //!
-//! Source: DESIGN.md sections 2, 3 and 6; the paper's steps (1)-(5) and
+//! Source: docs/theory.md sections 6-11 and 15; the paper's steps (1)-(5) and
 //! Eqs. (10)-(12). References derived here: the elastic-stick /
 //! plastic-slip distribution under a rigid block twisted on a cohesive
 //! joint (closed form, derived at its test) and the rigid disc on a
@@ -230,7 +230,7 @@ fn zero_stiffness_joint_separates_the_bodies_exactly() {
     assert!(err / scale < 1e-8, "relative error {:.3e}", err / scale);
 }
 
-/// Torsional partial slip (DESIGN.md 6), rigid block on an elastic-plastic
+/// Torsional partial slip (docs/theory.md section 15), rigid block on an elastic-plastic
 /// joint, phi = 0, cohesion C, joint closed by the axial compression.
 ///
 /// Closed form. A rigid block turned by beta relative to a rigid base has

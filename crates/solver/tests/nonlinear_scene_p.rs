@@ -1,6 +1,6 @@
-//! Scene P (DESIGN.md section 5): the paper's findings as assertions.
+//! Scene P (docs/theory.md section 14): the paper's findings as assertions.
 //!
-//! Source: Kobori & Chikata (`paper/000_e34b6eaf3f9caa5b.txt`), the text
+//! Source: Kobori & Chikata (cited in docs/theory.md), the text
 //! around its Figs. 6-8: "at theta = pi debonding occurs" and the tension
 //! outside the pile is cut off; "because of the debonding at theta = pi the
 //! support as a whole is like a lever"; "near the footing bottom at

@@ -1,7 +1,7 @@
 //! The stability map (issue 6, item 4): every iteration method against the
 //! hard cases of the stress-transfer iteration, each cell a clean outcome.
 //!
-//! Source: DESIGN.md sections 2, 3, 5 and 6; the issue's list of hard
+//! Source: docs/theory.md sections 6-11, 14 and 15; the issue's list of hard
 //! cases. The numbers measured here are in `docs/stability.md`.
 //!
 //! Goal: each cell (method x case) is one of

@@ -89,7 +89,7 @@ pub enum ShearCheck {
     Components,
 }
 
-/// Mohr-Coulomb strength with a tension cut-off (DESIGN.md section 2):
+/// Mohr-Coulomb strength with a tension cut-off (docs/theory.md section 7, the joint law):
 /// `tau_y = C - sigma tan(phi)` for `sigma <= 0`; the joint opens when the
 /// normal stress exceeds the tensile strength.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]

@@ -5,7 +5,7 @@ use serde::de::{self, MapAccess, Visitor};
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use std::fmt;
 
-/// Fourier family of a load of harmonic m >= 1 (DESIGN.md section 1).
+/// Fourier family of a load of harmonic m >= 1 (docs/theory.md section 1).
 ///
 /// | family | t_r, t_z | t_theta |
 /// |---|---|---|

@@ -217,7 +217,7 @@ pub struct Sections {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum SolverMethod {
-    /// The paper's stress-transfer iteration (DESIGN.md section 3): each
+    /// The paper's stress-transfer iteration (docs/theory.md section 8): each
     /// iteration applies the forces released by the previous one.
     Paper,
     /// The same fixed point accelerated by Anderson mixing of the released

@@ -5,7 +5,7 @@
 //! synthesis of the Fourier amplitudes at an angle, resultants, error norms
 //! and log-log slopes.
 //!
-//! Conventions (DESIGN.md section 1): node DOFs `(u_r, u_z, u_theta)`,
+//! Conventions (docs/theory.md section 1): node DOFs `(u_r, u_z, u_theta)`,
 //! `3 * node + c`; families
 //!
 //! | family | u_r | u_z | u_theta |
