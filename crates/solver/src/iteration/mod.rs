@@ -1,5 +1,5 @@
-//! The stress-transfer iteration (DESIGN.md section 3, the paper's steps
-//! (1)-(5)): the joints stay elastic in every K_m (the harmonics stay
+//! The stress-transfer iteration (docs/theory.md sections 8-11, the paper's
+//! steps (1)-(5)): the joints stay elastic in every K_m (the harmonics stay
 //! decoupled), and the inadmissible part of their traction is released as
 //! unbalanced nodal forces, analysed back into harmonics and solved again
 //! with the same factors.
@@ -197,7 +197,7 @@ pub enum IterationError {
     },
     /// The iteration stalled on a joint much stiffer than its elements:
     /// whether an equilibrium exists cannot be told.
-    #[error("not converged: {reason}; joint '{joint}' is much stiffer than the elements along it (k h / E = {stiffness:.1}): the paper and anderson methods keep the elastic joint stiffness in K_m, so a released traction comes back through the same stiff spring and the iteration crawls; newton (the default, with load steps) converged up to k h / E of about 1e3 on the measured cases (docs/stability.md). This does not show that the load exceeds what the joint can carry; use newton with load steps, soften the joint (k h / E of about 1 suffices for every method), or refine the mesh along it (iteration {iteration})")]
+    #[error("not converged: {reason}; joint '{joint}' is much stiffer than the elements along it (k h / E = {stiffness:.1}): the paper and anderson methods keep the elastic joint stiffness in K_m, so a released traction comes back through the same stiff spring and the iteration crawls; newton (the default, with load steps) converged up to k h / E = 100 on the measured cases (docs/stability.md). This does not show that the load exceeds what the joint can carry; use newton with load steps, soften the joint (k h / E of about 1 suffices for every method), or refine the mesh along it (iteration {iteration})")]
     StiffJoint {
         /// The joint with the largest residual.
         joint: String,
@@ -353,8 +353,11 @@ pub fn stress_transfer_from(
     elastic: Option<&Displacements>,
     mut progress: impl FnMut(&IterationRecord),
 ) -> Result<Outcome, IterationError> {
-    let setup = Setup::new(model, factors, loads, laws, sections, elastic)?;
-    let start = Start::zero(&setup);
+    let mut setup = Setup::new(model, factors, loads, laws, sections, elastic)?;
+    let mut start = Start::zero(&setup);
+    if setup.softened() {
+        start.psi_ref = Some(setup.reference_release());
+    }
     let result = match settings.method {
         Method::Plain => fixed_point(&setup, 0, settings, start, &mut progress),
         Method::Anderson { depth } => fixed_point(&setup, depth, settings, start, &mut progress),

@@ -27,8 +27,8 @@ const NEWTON_HALVINGS: u32 = 5;
 
 /// Halvings with a stiff joint (`k h / E` above [`PRECONDITION_ABOVE`]):
 /// the law's kinks lie closer together in x there. Measured on Scene P
-/// with k_eta h / E = 12.5, 100, 1000: 5 halvings fail the stepped run at
-/// 1000, 30 fail the one-shot runs at 12.5 and 100, 10 and 15 converge all.
+/// with k_eta h / E = 12.5 and 100: 30 halvings fail the one-shot runs,
+/// 10 converge them and the stepped runs.
 const NEWTON_HALVINGS_STIFF: u32 = 10;
 
 /// `k h / E` of a joint above which Newton's Krylov solve is preconditioned

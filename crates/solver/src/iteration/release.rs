@@ -166,7 +166,11 @@ impl Setup<'_> {
             };
             // Released: what K_m's spring carries minus what the law allows.
             let trial = joint.assembled.traction(d);
-            let excess = [trial[0] - p[0], trial[1] - p[1], trial[2] - p[2]];
+            let excess = if self.reference_law {
+                trial
+            } else {
+                [trial[0] - p[0], trial[1] - p[1], trial[2] - p[2]]
+            };
             self.scatter(i, excess, &mut fe, g);
             d_out[i] = d;
             p_out[i] = p;

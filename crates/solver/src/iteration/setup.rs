@@ -44,6 +44,9 @@ pub(super) struct Setup<'a> {
     /// `s * n_points + p`): `Some` selects the history law of stepped
     /// loading, `None` the paper's law.
     pub(super) history: Option<Vec<PointHistory>>,
+    /// "Release" the whole traction of the assembled springs: only for
+    /// [`Setup::reference_release`].
+    pub(super) reference_law: bool,
 }
 
 impl<'a> Setup<'a> {
@@ -182,6 +185,7 @@ impl<'a> Setup<'a> {
             both,
             lambda: 1.0,
             history: None,
+            reference_law: false,
         })
     }
 
@@ -459,6 +463,30 @@ impl<'a> Setup<'a> {
             p: ev.p.clone(),
             state: ev.state.clone(),
         }
+    }
+
+    /// Whether a joint is assembled with softer springs than its law's.
+    pub(super) fn softened(&self) -> bool {
+        self.model.joints.iter().any(|j| j.assembled != j.springs)
+    }
+
+    /// The reference `Psi_0` of a stepped run: the paper's Eq. 12, the
+    /// largest released section force of the elastic solution of the whole
+    /// load under the paper's law. Where a stiff joint is assembled softer,
+    /// its release carries the stiff spring (`k / k_ref` times the forces,
+    /// or nothing at all for a law that never yields), so the reference is
+    /// instead the largest section force the joints carry in the elastic
+    /// solution of the model as assembled (one sweep).
+    pub(super) fn reference_release(&mut self) -> f64 {
+        let (lambda, history) = (self.lambda, self.history.take());
+        self.lambda = 1.0;
+        self.reference_law = self.softened();
+        let mut released = self.zero_loads();
+        let mut ev = self.new_eval();
+        self.evaluate(&vec![0.0; self.len()], &mut released, &mut ev);
+        self.reference_law = false;
+        (self.lambda, self.history) = (lambda, history);
+        self.section_max(&ev.g)
     }
 
     /// The springs of the joint of pair `i` (index `s * n_points + p`).

@@ -141,12 +141,7 @@ pub fn stress_transfer_stepped<T>(
     let nx = setup.len();
 
     // The reference Psi_0: the paper-law release of the elastic solution.
-    let psi_ref = {
-        let mut released = setup.zero_loads();
-        let mut ev = setup.new_eval();
-        setup.evaluate(&vec![0.0; nx], &mut released, &mut ev);
-        setup.section_max(&ev.g)
-    };
+    let psi_ref = setup.reference_release();
 
     let mut committed = vec![PointHistory::default(); n_pairs];
     let mut x_c = vec![0.0; nx];
