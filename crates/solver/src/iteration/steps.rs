@@ -10,19 +10,21 @@
 //! debonded set only grows). A converged step commits the history (plastic
 //! slip, debonding); a failed attempt leaves the committed state as it was.
 //!
-//! Step control: the first increment is the whole load ([`Loading::Auto`]) or
+//! Step control: the first increment is the whole load ([`crate::scene::Loading::Auto`]) or
 //! `1 / N`; a step that does not converge is cut back by half (the failed
 //! load is remembered); after an easy converged step the increment doubles
 //! (up to its cap), but never past a load that failed; a failed load is
 //! retried once the increment reaches it. The run ends at `lambda = 1`, or
 //! when a load fails at most [`BRACKET`] (relative) or [`MIN_INCREMENT`]
 //! (absolute) above the last converged one: that load factor is the limit
-//! load factor, bracketed by the failed one.
+//! load factor, bracketed by the failed one; or after [`MAX_CUTBACKS`]
+//! failures in a row.
 //!
-//! The residual ratio of every step is relative to the same reference: the
-//! released forces of the elastic solution of the whole load under the
-//! paper's law (the `Psi_0` of a one-shot run), so a step is converged to
-//! the same absolute accuracy whatever its size.
+//! The residual ratio of every step is relative to the same reference
+//! ([`Setup::reference_release`]: the released forces of the elastic
+//! solution of the whole load under the paper's law, the `Psi_0` of a
+//! one-shot run), so a step is converged to the same absolute accuracy
+//! whatever its size.
 
 use super::setup::Setup;
 use super::{
