@@ -848,7 +848,14 @@ pub fn solve_scene_auto(
 ) -> Result<(Scene, Run), SolverError> {
     use crate::scene::JointLaw;
     let nonlinear = scene.joints.values().any(|j| j.law != JointLaw::Linear);
-    let loaded = scene.loads.iter().map(|l| l.max_harmonic()).max().unwrap_or(0);
+    let seismic = scene.seismic_coefficient != 0.0 && scene.materials.values().any(|m| m.unit_weight > 0.0);
+    let loaded = scene
+        .loads
+        .iter()
+        .map(|l| l.max_harmonic())
+        .max()
+        .unwrap_or(0)
+        .max(u32::from(seismic));
     let mut sc = scene.clone();
     if !nonlinear {
         sc.harmonics = loaded.into();

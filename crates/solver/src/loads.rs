@@ -85,9 +85,9 @@
 //! insertion share its load equally; a physical point group with several
 //! points loads each of them.
 
-use crate::elements::{c_m, edge_load, DOF_PER_NODE};
+use crate::elements::{body_force_load, c_m, edge_load, DOF_PER_NODE};
 use crate::scene::{Family, Load, Scene, SceneError};
-use axijoint_mesh::shapes::MAX_EDGE_NODES;
+use axijoint_mesh::shapes::{MAX_CELL_NODES, MAX_EDGE_NODES};
 use axijoint_mesh::{CurveSet, Mesh};
 
 /// Nodal forces of one harmonic: `3 * n_nodes` entries per family,
@@ -369,7 +369,75 @@ pub fn assemble_loads(scene: &Scene, mesh: &Mesh, m_max: u32) -> Result<Vec<Harm
             }
         }
     }
+    add_body_forces(scene, mesh, &mut out)?;
     Ok(out)
+}
+
+/// The self-weight (`-gamma` in z, harmonic 0) and the seismic body force
+/// (`k_h gamma` in +x: harmonic 1, symmetric `(b_r, b_theta) = (k_h gamma,
+/// -k_h gamma)`) of every cell whose material has a unit weight.
+fn add_body_forces(scene: &Scene, mesh: &Mesh, out: &mut [HarmonicLoads]) -> Result<(), SceneError> {
+    let invalid = |key: String, message: String| SceneError::Invalid {
+        path: scene.path.clone(),
+        key,
+        message,
+    };
+    let k_h = scene.seismic_coefficient;
+    if !k_h.is_finite() {
+        return Err(invalid(
+            "seismic_coefficient".into(),
+            "must be a finite number".into(),
+        ));
+    }
+    let mut weights = Vec::with_capacity(mesh.bodies.len());
+    for body in &mesh.bodies {
+        let gamma = scene.materials.get(&body.name).map_or(0.0, |m| m.unit_weight);
+        if !(gamma.is_finite() && gamma >= 0.0) {
+            return Err(invalid(
+                format!("materials.{}.unit_weight", body.name),
+                format!("{gamma}: must be a finite number >= 0"),
+            ));
+        }
+        weights.push(gamma);
+    }
+    if weights.iter().all(|&g| g == 0.0) {
+        return Ok(());
+    }
+    if k_h != 0.0 && out.len() < 2 {
+        return Err(invalid(
+            "seismic_coefficient".into(),
+            "a horizontal body force is harmonic 1: the run must solve harmonics 0..=1 at least".into(),
+        ));
+    }
+    let mut fe = vec![0.0; 3 * MAX_CELL_NODES];
+    let mut coords = Vec::with_capacity(MAX_CELL_NODES);
+    for cell in &mesh.cells {
+        let gamma = weights[cell.body];
+        if gamma == 0.0 {
+            continue;
+        }
+        coords.clear();
+        coords.extend(cell.nodes.iter().map(|&k| mesh.nodes[k]));
+        let nn = cell.nodes.len();
+        for (m, b) in [
+            (0usize, [0.0, -gamma, 0.0]),
+            (1, [k_h * gamma, 0.0, -k_h * gamma]),
+        ] {
+            if m == 1 && k_h == 0.0 {
+                continue;
+            }
+            let fe = &mut fe[..3 * nn];
+            fe.fill(0.0);
+            body_force_load(cell.kind, &coords, m as u32, b, fe);
+            let target = &mut out[m].symmetric;
+            for (i, &k) in cell.nodes.iter().enumerate() {
+                for c in 0..3 {
+                    target[3 * k + c] += fe[3 * i + c];
+                }
+            }
+        }
+    }
+    Ok(())
 }
 
 pub(crate) const ANTISYMMETRIC_ZERO: &str =

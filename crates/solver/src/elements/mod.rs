@@ -27,7 +27,8 @@ pub use joint::{
     JointRule, JointSprings,
 };
 pub use solid::{
-    b_matrix, b_matrix_on_axis, solid_stiffness, strain_at, stress_at, SolidScratch, STRESS_NAMES,
+    b_matrix, b_matrix_on_axis, body_force_load, solid_stiffness, strain_at, stress_at, SolidScratch,
+    STRESS_NAMES,
 };
 pub use traction::edge_load;
 

@@ -186,6 +186,36 @@ pub fn solid_stiffness(
     }
 }
 
+/// Consistent nodal forces of a body force of harmonic `m` with amplitudes
+/// `b = (b_r, b_z, b_theta)` (force / length^3, the families' cos / sin
+/// factors as for tractions) on one cell, added to `out` (node-major, `3 n`):
+///
+/// ```text
+/// f_i += c_m * sum_q N_i(q) b r(q) |det J(q)| w_q
+/// ```
+///
+/// with the rule of [`default_rule`] (exact for a constant b on straight
+/// cells up to quadratic ones).
+pub fn body_force_load(kind: CellKind, coords: &[[f64; 2]], m: u32, b: [f64; 3], out: &mut [f64]) {
+    let rule = default_rule(kind);
+    let nn = kind.n_nodes();
+    let mut n = [0.0; MAX_CELL_NODES];
+    let mut dn = [[0.0; 2]; MAX_CELL_NODES];
+    let cm = c_m(m);
+    for (xi, w) in rule.points.iter().zip(rule.weights) {
+        kind.eval_n(*xi, &mut n[..nn]);
+        kind.eval_dn(*xi, &mut dn[..nn]);
+        let (_, det) = jacobian(kind, coords, &dn[..nn]);
+        let r = interpolate(&coords[..nn], &n[..nn])[0];
+        let scale = cm * r * det.abs() * w;
+        for (i, ni) in n[..nn].iter().enumerate() {
+            for c in 0..DOF_PER_NODE {
+                out[DOF_PER_NODE * i + c] += scale * ni * b[c];
+            }
+        }
+    }
+}
+
 /// Names of the stress components in the order of [`stress_at`] (and of
 /// every output).
 pub const STRESS_NAMES: [&str; 6] = [

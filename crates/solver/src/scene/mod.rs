@@ -134,6 +134,10 @@ pub struct Scene {
     /// Loads.
     #[serde(default)]
     pub loads: Vec<Load>,
+    /// Horizontal pseudo-static (seismic) coefficient k_h: a body force
+    /// `k_h gamma` in +x on every material with a unit weight (harmonic 1).
+    #[serde(default, skip_serializing_if = "settings::is_zero")]
+    pub seismic_coefficient: f64,
     /// Highest harmonic M (the run solves harmonics 0..=M), or `"auto"`.
     pub harmonics: Harmonics,
     /// Theta sections of the joint law; `None`: the paper's M + 1 sections.

@@ -93,6 +93,15 @@ pub struct Material {
     pub e: f64,
     /// Poisson's ratio, -1 < nu < 0.5.
     pub nu: f64,
+    /// Unit weight gamma (force / length^3, >= 0): the self-weight, a body
+    /// force `-gamma` in z, a load like the others (scaled by the load
+    /// factor of a stepped run).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub unit_weight: f64,
+}
+
+pub(crate) fn is_zero(v: &f64) -> bool {
+    *v == 0.0
 }
 
 impl Material {
