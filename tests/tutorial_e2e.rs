@@ -1,0 +1,811 @@
+//! docs/tutorial.md end to end: the tutorial's files, commands and numbers.
+//!
+//! - The `geo` and `json` listings of the tutorial (each preceded by a
+//!   `<!-- file: NAME -->` line) are byte for byte `docs/tutorial/NAME`.
+//! - Every `$ ` command of its `console` blocks runs, in order, with `sh` in
+//!   a temporary folder holding copies of those files, with the binary under
+//!   test first on the `PATH` and the real gmsh (`$AXIJOINT_GMSH` or `gmsh`).
+//!   A command whose shown output has an `error:` line must fail, every
+//!   other one must succeed.
+//! - With gmsh 4.8.4 (the build that produced the tutorial, and CI's), each
+//!   block's output must match the real output line by line: words exactly
+//!   (runs of blanks count as one), integers exactly, decimals within half a
+//!   unit of their last shown digit plus 1e-6 relative. A `...` line stands
+//!   for any number of lines; the numbers of a `time:` line are not
+//!   compared. With another gmsh build the mesh differs and the blocks are
+//!   not compared (the test prints why).
+//! - Every number the text quotes outside the blocks is listed in
+//!   [`quotes`] with the value the run gives: with gmsh 4.8.4 it must equal
+//!   that value to the digits shown (plus 1e-6 relative); with another
+//!   build, within the tolerance stated per number.
+//! - The images the tutorial embeds are in `docs/tutorial/`, are PNGs of the
+//!   same size as the run's, and weigh less than [`MAX_IMAGE_BYTES`] in
+//!   all; the array names of its ParaView section are in `field.vtu` and
+//!   `field_joints.vtu`, and the codes it gives for `body` and `joint` are
+//!   those of the files.
+
+mod common;
+
+use common::*;
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// The gmsh build whose meshes the tutorial shows.
+const TUTORIAL_GMSH: &str = "4.8.4";
+
+/// The images embedded in the tutorial, in all.
+const MAX_IMAGE_BYTES: u64 = 400_000;
+
+/// Relative slack on every number compared on the tutorial's gmsh build
+/// (a different CPU may take a slightly different iteration path).
+const SAME_BUILD_RELATIVE: f64 = 1e-6;
+
+fn tutorial_dir() -> PathBuf {
+    root().join("docs/tutorial")
+}
+
+fn tutorial_text() -> String {
+    std::fs::read_to_string(root().join("docs/tutorial.md")).unwrap()
+}
+
+/// A fenced block of the Markdown: its language, its text (indentation of
+/// the fence removed) and the file named by a `<!-- file: NAME -->` line
+/// just before it.
+struct Fence {
+    lang: String,
+    body: String,
+    file: Option<String>,
+}
+
+fn fences(md: &str) -> Vec<Fence> {
+    let mut out = Vec::new();
+    let mut lines = md.lines();
+    let mut marker: Option<String> = None;
+    while let Some(line) = lines.next() {
+        let trimmed = line.trim();
+        if let Some(lang) = trimmed.strip_prefix("```") {
+            let indent = line.len() - line.trim_start().len();
+            let mut body = String::new();
+            for l in lines.by_ref() {
+                if l.trim() == "```" {
+                    break;
+                }
+                let cut = l.len() - l.trim_start().len();
+                body.push_str(&l[cut.min(indent)..]);
+                body.push('\n');
+            }
+            out.push(Fence {
+                lang: lang.trim().to_string(),
+                body,
+                file: marker.take(),
+            });
+        } else if let Some(name) = trimmed
+            .strip_prefix("<!-- file:")
+            .and_then(|r| r.strip_suffix("-->"))
+        {
+            marker = Some(name.trim().to_string());
+        } else if !trimmed.is_empty() {
+            marker = None;
+        }
+    }
+    out
+}
+
+/// A piece of a line: words (and punctuation) or a number as written.
+#[derive(Debug, PartialEq)]
+enum Tok {
+    Text(String),
+    Num(String),
+}
+
+/// Splits a line into text and numbers. A number starts with a digit, or
+/// with a sign or a point followed by a digit, and is not glued to a word
+/// (`Q9`, `theta0`, `pile_m4` are text). Runs of blanks become one blank.
+fn tokens(line: &str) -> Vec<Tok> {
+    let c: Vec<char> = line.trim().chars().collect();
+    let digit = |i: usize| c.get(i).is_some_and(|x| x.is_ascii_digit());
+    let mut out = Vec::new();
+    let mut text = String::new();
+    let mut i = 0;
+    while i < c.len() {
+        let glued = i > 0 && (c[i - 1].is_alphanumeric() || c[i - 1] == '_' || c[i - 1] == '.');
+        let start = !glued
+            && (digit(i)
+                || (matches!(c[i], '+' | '-')
+                    && (digit(i + 1) || (c.get(i + 1) == Some(&'.') && digit(i + 2))))
+                || (c[i] == '.' && digit(i + 1)));
+        if !start {
+            if c[i].is_whitespace() {
+                if !text.ends_with(' ') {
+                    text.push(' ');
+                }
+            } else {
+                text.push(c[i]);
+            }
+            i += 1;
+            continue;
+        }
+        if !text.is_empty() {
+            out.push(Tok::Text(std::mem::take(&mut text)));
+        }
+        let from = i;
+        if matches!(c[i], '+' | '-') {
+            i += 1;
+        }
+        while digit(i) {
+            i += 1;
+        }
+        if c.get(i) == Some(&'.') && digit(i + 1) {
+            i += 1;
+            while digit(i) {
+                i += 1;
+            }
+        }
+        if matches!(c.get(i), Some('e' | 'E'))
+            && (digit(i + 1) || (matches!(c.get(i + 1), Some('+' | '-')) && digit(i + 2)))
+        {
+            i += 2;
+            while digit(i) {
+                i += 1;
+            }
+        }
+        out.push(Tok::Num(c[from..i].iter().collect()));
+    }
+    if !text.is_empty() {
+        out.push(Tok::Text(text));
+    }
+    out
+}
+
+/// Half a unit of the last digit of a number as written (0 for an integer).
+fn half_ulp(s: &str) -> f64 {
+    let (mantissa, exponent) = match s.find(['e', 'E']) {
+        Some(k) => (&s[..k], s[k + 1..].parse::<i32>().unwrap()),
+        None => (s, 0),
+    };
+    match mantissa.find('.') {
+        Some(k) => 0.5 * 10f64.powi(exponent - (mantissa.len() - k - 1) as i32),
+        None if s.contains(['e', 'E']) => 0.5 * 10f64.powi(exponent),
+        None => 0.0,
+    }
+}
+
+/// Whether `actual` is `shown` to the digits shown, plus the same-build slack.
+fn same_number(shown: &str, actual: &str) -> bool {
+    let (e, a): (f64, f64) = (shown.parse().unwrap(), actual.parse().unwrap());
+    if !shown.contains(['.', 'e', 'E']) {
+        return a == e;
+    }
+    (a - e).abs() <= half_ulp(shown) + SAME_BUILD_RELATIVE * e.abs() + 1e-15
+}
+
+/// Compares one shown line with one real line.
+fn line_matches(shown: &str, actual: &str) -> bool {
+    let timings = shown.trim_start().starts_with("time:");
+    let (s, a) = (tokens(shown), tokens(actual));
+    s.len() == a.len()
+        && s.iter().zip(&a).all(|pair| match pair {
+            (Tok::Text(x), Tok::Text(y)) => x == y,
+            (Tok::Num(x), Tok::Num(y)) => timings || same_number(x, y),
+            _ => false,
+        })
+}
+
+/// Whether the shown lines match the real ones (`...` matches any lines).
+fn lines_match(shown: &[&str], actual: &[&str]) -> bool {
+    match shown.first() {
+        None => actual.is_empty(),
+        Some(s) if s.trim() == "..." => (0..=actual.len()).any(|k| lines_match(&shown[1..], &actual[k..])),
+        Some(s) => !actual.is_empty() && line_matches(s, actual[0]) && lines_match(&shown[1..], &actual[1..]),
+    }
+}
+
+/// The commands of a console block with their shown output.
+fn commands(block: &str) -> Vec<(String, Vec<String>)> {
+    let mut out: Vec<(String, Vec<String>)> = Vec::new();
+    for line in block.lines() {
+        if let Some(cmd) = line.strip_prefix("$ ") {
+            out.push((cmd.to_string(), Vec::new()));
+        } else {
+            let (_, shown) = out.last_mut().expect("a console block starts with `$ `");
+            shown.push(line.trim_end().to_string());
+        }
+    }
+    out
+}
+
+fn gmsh_version() -> String {
+    let program = std::env::var_os("AXIJOINT_GMSH").unwrap_or_else(|| "gmsh".into());
+    let out = Command::new(program)
+        .arg("--version")
+        .output()
+        .expect("gmsh runs");
+    let (stdout, stderr) = text(&out);
+    format!("{stdout}{stderr}").trim().to_string()
+}
+
+/// Runs a tutorial command in `dir`: its status and its stdout then stderr.
+fn shell(dir: &Path, cmd: &str) -> (bool, String) {
+    let bin = Path::new(env!("CARGO_BIN_EXE_axijoint")).parent().unwrap();
+    let path = std::env::join_paths(std::iter::once(bin.to_path_buf()).chain(std::env::split_paths(
+        &std::env::var_os("PATH").unwrap_or_default(),
+    )))
+    .unwrap();
+    let out = Command::new("sh")
+        .arg("-c")
+        .arg(cmd)
+        .current_dir(dir)
+        .env("PATH", path)
+        .output()
+        .expect("sh runs");
+    let (stdout, stderr) = text(&out);
+    (out.status.success(), format!("{stdout}{stderr}"))
+}
+
+fn read_json(path: &Path) -> Value {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    serde_json::from_str(&text).unwrap()
+}
+
+/// A CSV file as rows of (column name, cell).
+struct Table {
+    header: Vec<String>,
+    rows: Vec<Vec<String>>,
+}
+
+impl Table {
+    fn read(path: &Path) -> Table {
+        let mut r = csv::Reader::from_path(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let header = r.headers().unwrap().iter().map(String::from).collect();
+        let rows = r
+            .records()
+            .map(|rec| rec.unwrap().iter().map(String::from).collect())
+            .collect();
+        Table { header, rows }
+    }
+
+    fn col(&self, name: &str) -> usize {
+        self.header
+            .iter()
+            .position(|h| h == name)
+            .unwrap_or_else(|| panic!("no column {name} in {:?}", self.header))
+    }
+
+    fn text(&self, row: &[String], name: &str) -> String {
+        row[self.col(name)].clone()
+    }
+
+    fn num(&self, row: &[String], name: &str) -> f64 {
+        row[self.col(name)].parse().unwrap()
+    }
+}
+
+/// sigma_r of a body on the cut at 2 m depth at the shaft, r = 0.6 m.
+fn at_shaft(dir: &Path, theta: u32, body: &str) -> f64 {
+    let t = Table::read(&dir.join(format!("cut_depth2_theta{theta}.csv")));
+    let row = t
+        .rows
+        .iter()
+        .find(|r| (t.num(r, "r [m]") - 0.6).abs() < 1e-9 && t.text(r, "body") == body)
+        .unwrap_or_else(|| panic!("no {body} row at r = 0.6 at theta {theta}"));
+    t.num(row, "sigma_r [MPa]")
+}
+
+/// The largest |sigma_z| of the pile cut at theta: (sigma_z, z).
+fn bending_peak(dir: &Path, theta: u32) -> (f64, f64) {
+    let t = Table::read(&dir.join(format!("cut_pile_theta{theta}.csv")));
+    let row = t
+        .rows
+        .iter()
+        .max_by(|a, b| {
+            t.num(a, "sigma_z [MPa]")
+                .abs()
+                .total_cmp(&t.num(b, "sigma_z [MPa]").abs())
+        })
+        .unwrap();
+    (t.num(row, "sigma_z [MPa]"), t.num(row, "z [m]"))
+}
+
+/// One number quoted in the text: the quoted words (the first number in
+/// them is the quote; an integer stands for a count or a rounded value, so
+/// half a unit), the value the run gives, and the relative tolerance with
+/// another gmsh build than the tutorial's.
+struct Quote {
+    words: &'static str,
+    value: f64,
+    other_build: f64,
+}
+
+fn q(words: &'static str, value: f64, other_build: f64) -> Quote {
+    Quote {
+        words,
+        value,
+        other_build,
+    }
+}
+
+/// Every number the tutorial's text quotes outside the console blocks.
+fn quotes(work: &Path, mesh: &Value) -> Vec<Quote> {
+    let out = work.join("out/pile");
+    let bonded = out.join("without_joints");
+    let scene = read_json(&work.join("pile.json"));
+    let summary = read_json(&out.join("summary.json"));
+    let solution = read_json(&out.join("solution.json"));
+    let m4 = read_json(&work.join("out/pile_m4/summary.json"));
+    let f = |v: &Value| v.as_f64().unwrap_or_else(|| panic!("not a number: {v}"));
+
+    let shaft = &mesh["joints"]["pile_shaft"];
+    let toe = &mesh["joints"]["pile_toe"];
+    let params = &scene["mesh"]["parameters"];
+    let (h, growth, hmax) = (f(&params["h"]), f(&params["growth"]), f(&params["hmax"]));
+    let k_eta = f(&scene["joints"]["pile_shaft"]["k_eta"]);
+    let e_soil = f(&scene["materials"]["soil"]["E"]);
+
+    let ux = f(&summary["loaded_faces"]["pile_head"][0]);
+    let uz = f(&summary["loaded_faces"]["pile_head"][2]);
+    let ux_bonded = f(&read_json(&bonded.join("solution.json"))["loaded_faces"]["pile_head"][0]);
+    let step = &summary["load_steps"][0];
+    let sections = solution["extra"]["sections_deg"].as_array().unwrap().len();
+    let shaft_area = |k: &str| f(&summary["joints"]["pile_shaft"][k]);
+
+    let front = at_shaft(&out, 0, "soil");
+    let back = at_shaft(&out, 180, "soil")
+        .abs()
+        .max(at_shaft(&out, 180, "pile").abs());
+    let front_bonded = at_shaft(&bonded, 0, "soil");
+
+    // The shaft joint: its first point at theta = 0, the first open point in
+    // front, the edge of the open zone behind, the widest gap.
+    let joint = Table::read(&out.join("joint_pile_shaft.csv"));
+    let at = |theta: &str| -> Vec<&Vec<String>> {
+        joint
+            .rows
+            .iter()
+            .filter(|r| joint.text(r, "theta [deg]") == theta)
+            .collect()
+    };
+    let (front_rows, back_rows) = (at("0"), at("180"));
+    let first = front_rows[0];
+    let sigma = joint.num(first, "sigma [MPa]");
+    let state = |r: &Vec<String>| joint.text(r, "state");
+    let opens = front_rows.iter().position(|r| state(r) == "open").unwrap();
+    assert!(
+        front_rows[opens..].iter().all(|r| state(r) == "open"),
+        "open below"
+    );
+    let closes = back_rows.iter().position(|r| state(r) != "open").unwrap();
+    assert!(closes > 0 && back_rows[closes..].iter().all(|r| state(r) != "open"));
+    let s = |r: &Vec<String>| joint.num(r, "s [m]");
+    let widest = back_rows
+        .iter()
+        .max_by(|a, b| {
+            joint
+                .num(a, "opening [m]")
+                .total_cmp(&joint.num(b, "opening [m]"))
+        })
+        .unwrap();
+    assert!(
+        s(widest) < 0.1,
+        "the gap is widest at the surface: s = {}",
+        s(widest)
+    );
+
+    let (peak_back, z_back) = bending_peak(&out, 180);
+    let (peak_front, z_front) = bending_peak(&out, 0);
+    let (bonded_back, z_bonded) = bending_peak(&bonded, 180);
+    let (bonded_front, _) = bending_peak(&bonded, 0);
+    assert!(
+        (bonded_back + bonded_front).abs() < 1e-6 * bonded_back.abs(),
+        "bonded: same on both sides"
+    );
+
+    let steps = Table::read(&work.join("out/pile_steps/load_path.csv"));
+    let (s1, s5) = (&steps.rows[0], steps.rows.last().unwrap());
+    let step_ux = |r: &[String]| steps.num(r, "pile_head_ux [m]");
+    let step_lambda = |r: &[String]| steps.num(r, "lambda [-]");
+    let head_force = f(&scene["loads"][0]["force"][0]);
+
+    vec![
+        // 1. The mesh size gradient, from the .geo's parameters.
+        q("0.55 m one metre away", h + growth, 0.0),
+        q("3 m from 10.8 m", hmax, 0.0),
+        q("from 10.8 m away", (hmax - h) / growth, 0.0),
+        // 2. The mesh.
+        q("has 40 Lin6 elements", f(&shaft["elements"]), 0.0),
+        q("the toe 2.", f(&toe["elements"]), 0.0),
+        q("= 45.24 m^2", f(&shaft["lateral_area"]), 1e-9),
+        q("= 1.131 m^2", f(&toe["lateral_area"]), 1e-9),
+        q("\"81 duplicated nodes\"", f(&shaft["duplicated_nodes"]), 0.0),
+        q("On the toe all 5", f(&toe["duplicated_nodes"]), 0.0),
+        q("has 1480 nodes", f(&mesh["nodes"]), 0.2),
+        q("and 333 elements", f(&mesh["elements"]), 0.2),
+        // 3. The scene.
+        q("= 1; the shear springs", k_eta * h / e_soil, 0.0),
+        q("= 17 sections over", sections as f64, 0.0),
+        // 4. Running.
+        q("(120 on the shaft", 3.0 * f(&shaft["elements"]), 0.0),
+        q("6 under the toe)", 3.0 * f(&toe["elements"]), 0.0),
+        q("the 17 theta sections", sections as f64, 0.0),
+        q(
+            "= 2142",
+            f(&step["open"]) + f(&step["slip"]) + f(&step["stick"]),
+            0.0,
+        ),
+        q("reached `lambda = 1`", f(&summary["load_factor"]), 0.0),
+        q("109 solves are", f(&step["solves"]), 1.0),
+        q(
+            "by 6.64e-4 (0.07 %)",
+            f(&summary["harmonic_check"]["face_change"]),
+            1.0,
+        ),
+        q(
+            "(0.07 %)",
+            100.0 * f(&summary["harmonic_check"]["face_change"]),
+            1.0,
+        ),
+        q(
+            "areas by 5.50e-4",
+            f(&summary["harmonic_check"]["area_change"]),
+            1.0,
+        ),
+        q(
+            "3.6 % on the displacement",
+            100.0 * f(&m4["harmonic_check"]["face_change"]),
+            0.5,
+        ),
+        q(
+            "11 % on the areas",
+            100.0 * f(&m4["harmonic_check"]["area_change"]),
+            0.5,
+        ),
+        q("It moves 3.28 mm along the load", 1e3 * ux, 0.03),
+        q("by 0.140 mm", 1e3 * uz, 0.15),
+        // 5. The CSV files.
+        q("open over 22.5 m^2", shaft_area("open_area"), 0.05),
+        q(
+            "50 % of its 45.24 m^2",
+            100.0 * shaft_area("open_area") / f(&shaft["lateral_area"]),
+            0.05,
+        ),
+        q("slips over 4.84 m^2", shaft_area("slip_area"), 0.15),
+        q("sticks over 17.9 m^2", shaft_area("stick_area"), 0.05),
+        q(
+            "open over 1.131 m^2",
+            f(&summary["joints"]["pile_toe"]["open_area"]),
+            1e-6,
+        ),
+        q("pressed with -0.0300 MPa", front, 0.05),
+        q("within 0.0012 MPa of zero", back, 1.0),
+        q("(-0.0134 MPa in front", front_bonded, 0.05),
+        q("2.25 times more", front / front_bonded, 0.05),
+        q("moves 1.92 mm bonded", 1e3 * ux_bonded, 0.03),
+        q("against 3.28 mm", 1e3 * ux, 0.03),
+        q("1.71 times softer", ux / ux_bonded, 0.04),
+        q("The first point, 34 mm below", 1e3 * s(first), 0.05),
+        q("sigma = -0.0677 MPa", sigma, 0.05),
+        q("+ 0.0677 tan(30 deg)", -sigma, 0.05),
+        q("= 0.0491 MPa", 0.01 - sigma * 30f64.to_radians().tan(), 0.05),
+        q(
+            "|tau_xi| of 0.0134 MPa",
+            joint.num(first, "tau_xi [MPa]").abs(),
+            0.05,
+        ),
+        q("closed down to 6.87 m", s(front_rows[opens]), 0.05),
+        q("widest: 2.57 mm", 1e3 * joint.num(widest, "opening [m]"), 0.05),
+        // 6. The plots.
+        q(
+            "down to about 7.7 m",
+            0.5 * (s(back_rows[closes - 1]) + s(back_rows[closes])),
+            0.05,
+        ),
+        q(
+            "below about 6.8 m",
+            0.5 * (s(front_rows[opens - 1]) + s(front_rows[opens])),
+            0.05,
+        ),
+        q("are 1.21 MPa in tension", peak_back, 0.05),
+        q("= -3.5 m)", z_back, 0.1),
+        q("and -1.18 MPa in compression", peak_front, 0.05),
+        q("z = -3.25 m); bonded", z_front, 0.1),
+        q("bonded, 0.901 MPa", bonded_back, 0.05),
+        q("at z = -3.0 m on both sides", z_bonded, 0.1),
+        q("stress 1.34 times", peak_back / bonded_back, 0.05),
+        // 7. ParaView.
+        q("the head moves 3.3 mm", 1e3 * ux, 0.03),
+        // 8. The load in steps.
+        q(
+            "already 22.4 m^2 at the first step",
+            steps.num(s1, "pile_shaft_open_area [m^2]"),
+            0.05,
+        ),
+        q("from 1.69 to", steps.num(s1, "pile_shaft_slip_area [m^2]"), 0.15),
+        q("to 4.79 m^2", steps.num(s5, "pile_shaft_slip_area [m^2]"), 0.15),
+        q(
+            "65.3 MN/m at lambda = 0.2",
+            step_lambda(s1) * head_force / step_ux(s1),
+            0.03,
+        ),
+        q("at lambda = 0.2", step_lambda(s1), 0.0),
+        q("to 61.0 MN/m", step_lambda(s5) * head_force / step_ux(s5), 0.03),
+        q("3.277 mm, differs", 1e3 * step_ux(s5), 0.03),
+        q("differs by 0.13 %", 100.0 * (ux - step_ux(s5)).abs() / ux, 1.0),
+    ]
+}
+
+/// Decodes standard base64.
+fn base64(text: &str) -> Vec<u8> {
+    let value = |c: u8| match c {
+        b'A'..=b'Z' => c - b'A',
+        b'a'..=b'z' => c - b'a' + 26,
+        b'0'..=b'9' => c - b'0' + 52,
+        b'+' => 62,
+        b'/' => 63,
+        _ => panic!("not base64: {c}"),
+    };
+    let digits: Vec<u8> = text
+        .bytes()
+        .filter(|c| !c.is_ascii_whitespace() && *c != b'=')
+        .map(value)
+        .collect();
+    let mut out = Vec::new();
+    for chunk in digits.chunks(4) {
+        let n = chunk
+            .iter()
+            .enumerate()
+            .fold(0u32, |n, (i, d)| n | (u32::from(*d) << (18 - 6 * i)));
+        out.extend_from_slice(&n.to_be_bytes()[1..chunk.len()]);
+    }
+    out
+}
+
+/// The Int32 values of a VTU data array (inline binary, UInt64 header).
+fn vtu_ints(vtu: &str, name: &str) -> Vec<i32> {
+    let tag = format!("Name=\"{name}\"");
+    let from = vtu.find(&tag).unwrap_or_else(|| panic!("no array {name}"));
+    let open = from + vtu[from..].find('>').unwrap() + 1;
+    let close = open + vtu[open..].find('<').unwrap();
+    let bytes = base64(&vtu[open..close]);
+    let len = u64::from_le_bytes(bytes[..8].try_into().unwrap()) as usize;
+    bytes[8..8 + len]
+        .chunks(4)
+        .map(|b| i32::from_le_bytes(b.try_into().unwrap()))
+        .collect()
+}
+
+/// Width and height of a PNG.
+fn png_size(path: &Path) -> (u32, u32) {
+    let bytes = std::fs::read(path).unwrap();
+    assert_eq!(&bytes[1..4], b"PNG", "{} is a PNG", path.display());
+    let word = |k: usize| u32::from_be_bytes(bytes[k..k + 4].try_into().unwrap());
+    (word(16), word(20))
+}
+
+#[test]
+fn tutorial_commands_files_and_numbers() {
+    let md = tutorial_text();
+    let blocks = fences(&md);
+    let version = gmsh_version();
+    let same_build = version == TUTORIAL_GMSH;
+    if !same_build {
+        eprintln!(
+            "gmsh {version} is not the tutorial's {TUTORIAL_GMSH}: its mesh differs, so the console \
+             blocks are not compared and the quoted numbers are checked with the other-build tolerances"
+        );
+    }
+
+    // The listings are the files.
+    let work = tempfile::tempdir().unwrap();
+    let listed: Vec<&Fence> = blocks.iter().filter(|b| b.file.is_some()).collect();
+    let names: Vec<&str> = listed.iter().map(|b| b.file.as_deref().unwrap()).collect();
+    assert_eq!(names, ["pile.geo", "pile.json"], "the listings marked as files");
+    for block in &listed {
+        let name = block.file.as_deref().unwrap();
+        let file = std::fs::read_to_string(tutorial_dir().join(name)).unwrap();
+        assert_eq!(block.lang, Path::new(name).extension().unwrap().to_str().unwrap());
+        assert!(
+            block.body == file,
+            "the listing of {name} in docs/tutorial.md differs from docs/tutorial/{name}"
+        );
+        std::fs::write(work.path().join(name), &file).unwrap();
+    }
+
+    // The commands, in order.
+    let consoles: Vec<&Fence> = blocks.iter().filter(|b| b.lang == "console").collect();
+    assert!(consoles.len() >= 8, "{} console blocks", consoles.len());
+    let mut compared = 0;
+    for block in consoles {
+        for (cmd, shown) in commands(&block.body) {
+            let (ok, output) = shell(work.path(), &cmd);
+            let fails = shown.iter().any(|l| l.starts_with("error:"));
+            assert_eq!(
+                ok,
+                !fails,
+                "`{cmd}` (expected to {}):\n{output}",
+                if fails { "fail" } else { "succeed" }
+            );
+            if same_build {
+                let actual: Vec<&str> = output.lines().map(str::trim_end).collect();
+                let shown: Vec<&str> = shown.iter().map(String::as_str).collect();
+                assert!(
+                    lines_match(&shown, &actual),
+                    "`{cmd}`: the tutorial shows\n{}\nthe run printed\n{}",
+                    shown.join("\n"),
+                    actual.join("\n")
+                );
+                compared += 1;
+            }
+        }
+    }
+    eprintln!("console outputs compared: {compared}");
+
+    // The numbers of the text.
+    let (ok, mesh) = shell(
+        work.path(),
+        "axijoint mesh pile.geo --joints pile_shaft,pile_toe --json",
+    );
+    assert!(ok, "{mesh}");
+    let mesh: Value = serde_json::from_str(&mesh).unwrap();
+    let flat = md.split_whitespace().collect::<Vec<_>>().join(" ");
+    let mut failures = Vec::new();
+    for quote in quotes(work.path(), &mesh) {
+        assert!(
+            flat.contains(quote.words),
+            "docs/tutorial.md no longer says {:?}",
+            quote.words
+        );
+        let shown = tokens(quote.words)
+            .into_iter()
+            .find_map(|t| match t {
+                Tok::Num(n) => Some(n),
+                Tok::Text(_) => None,
+            })
+            .unwrap();
+        let value: f64 = shown.parse().unwrap();
+        // A quoted integer is a count or a rounded value: half a unit.
+        let digits = if shown.contains(['.', 'e', 'E']) {
+            half_ulp(&shown)
+        } else {
+            0.5
+        };
+        let slack = if same_build {
+            SAME_BUILD_RELATIVE * quote.value.abs()
+        } else {
+            quote.other_build * value.abs()
+        };
+        let good = (quote.value - value).abs() <= digits + slack + 1e-15;
+        eprintln!(
+            "{} {:?}: the run gives {:.6e}",
+            if good { "ok  " } else { "FAIL" },
+            quote.words,
+            quote.value
+        );
+        if !good {
+            failures.push(quote.words);
+        }
+    }
+    assert!(
+        failures.is_empty(),
+        "quoted numbers that do not hold: {failures:?}"
+    );
+
+    // The images: in docs/tutorial/, the size of the run's, small.
+    let out = work.path().join("out/pile");
+    let images: Vec<&str> = md
+        .split("![")
+        .skip(1)
+        .map(|rest| {
+            let link = &rest[rest.find("](").unwrap() + 2..];
+            let link = &link[..link.find(')').unwrap()];
+            link.strip_prefix("tutorial/")
+                .unwrap_or_else(|| panic!("an image outside docs/tutorial/: {link}"))
+        })
+        .collect();
+    assert!((2..=3).contains(&images.len()), "{images:?}");
+    let mut bytes = 0;
+    for name in &images {
+        let stored = tutorial_dir().join(name);
+        bytes += std::fs::metadata(&stored).unwrap().len();
+        assert_eq!(png_size(&stored), png_size(&out.join(name)), "{name}");
+    }
+    assert!(bytes < MAX_IMAGE_BYTES, "the images weigh {bytes} bytes");
+
+    // ParaView: the arrays named in section 7 and the codes it gives.
+    let field = std::fs::read_to_string(out.join("field.vtu")).unwrap();
+    let joints = std::fs::read_to_string(out.join("field_joints.vtu")).unwrap();
+    for name in [
+        "displacement",
+        "displacement_cyl",
+        "sigma_cyl",
+        "stress",
+        "von_mises",
+        "body",
+    ] {
+        assert!(
+            md.contains(&format!("`{name}`")) && field.contains(&format!("Name=\"{name}\"")),
+            "{name}"
+        );
+    }
+    for component in [
+        "sigma_r",
+        "sigma_z",
+        "sigma_theta",
+        "tau_rz",
+        "tau_rtheta",
+        "tau_ztheta",
+    ] {
+        assert!(field.contains(&format!("=\"{component}\"")), "{component}");
+    }
+    for name in [
+        "state",
+        "opening",
+        "slip",
+        "sigma_n",
+        "tau_xi",
+        "tau_theta",
+        "open_fraction",
+        "slip_fraction",
+        "d",
+        "joint",
+        "section_deg",
+    ] {
+        assert!(
+            md.contains(&format!("`{name}`")) && joints.contains(&format!("Name=\"{name}\"")),
+            "{name}"
+        );
+    }
+    let sections = 24;
+    assert!(md.contains(&format!("over {sections} sections of the turn")));
+    let count = |v: &[i32], code: i32| v.iter().filter(|&&x| x == code).count();
+    let body = vtu_ints(&field, "body");
+    let elements = |b: &str| mesh["bodies"][b]["elements"].as_u64().unwrap() as usize;
+    assert_eq!(count(&body, 0), sections * elements("pile"), "body 0 is the pile");
+    assert_eq!(count(&body, 1), sections * elements("soil"), "body 1 is the soil");
+    let joint = vtu_ints(&joints, "joint");
+    let joint_elements = |j: &str| mesh["joints"][j]["elements"].as_u64().unwrap() as usize;
+    assert_eq!(
+        count(&joint, 0),
+        sections * joint_elements("pile_shaft"),
+        "joint 0 is the shaft"
+    );
+    assert_eq!(
+        count(&joint, 1),
+        sections * joint_elements("pile_toe"),
+        "joint 1 is the toe"
+    );
+    let state = vtu_ints(&joints, "state");
+    assert!(state.iter().all(|s| (0..=2).contains(s)) && count(&state, 2) > 0);
+}
+
+/// The line comparison itself: numbers to the digits shown, words exactly.
+#[test]
+fn console_comparison_rules() {
+    assert_eq!(
+        tokens("  pile_shaft  40 Lin6 elements, length 12.000000 (ux) = (+3.2e-3, -1, 0..=8)"),
+        [
+            Tok::Text("pile_shaft ".into()),
+            Tok::Num("40".into()),
+            Tok::Text(" Lin6 elements, length ".into()),
+            Tok::Num("12.000000".into()),
+            Tok::Text(" (ux) = (".into()),
+            Tok::Num("+3.2e-3".into()),
+            Tok::Text(", ".into()),
+            Tok::Num("-1".into()),
+            Tok::Text(", ".into()),
+            Tok::Num("0".into()),
+            Tok::Text("..=".into()),
+            Tok::Num("8".into()),
+            Tok::Text(")".into()),
+        ]
+    );
+    assert!(line_matches("a 3.281023e-3 m", "a  3.281024e-3 m"));
+    assert!(!line_matches("a 3.281023e-3 m", "a 3.281043e-3 m"));
+    assert!(!line_matches("29 iterations", "30 iterations"));
+    assert!(!line_matches("open 1123", "open 1123, slip"));
+    assert!(line_matches("time: setup 0.007 s", "time: setup 0.123 s"));
+    assert!(lines_match(&["x", "...", "z"], &["x", "y", "y", "z"]));
+    assert!(!lines_match(&["x", "z"], &["x", "y", "z"]));
+    assert_eq!(half_ulp("3.28"), 0.005);
+    assert!((half_ulp("1.130973355e0") / 0.5e-9 - 1.0).abs() < 1e-12);
+    assert_eq!(half_ulp("1480"), 0.0);
+}
