@@ -427,3 +427,58 @@ fn cli_mesh_of_a_scene_file() {
     assert!((v["joints"]["pile_side"]["lateral_area"].as_f64().unwrap() - PI).abs() < 1e-12);
     assert!((v["bodies"]["footing"]["area"].as_f64().unwrap() - 5.5).abs() < 1e-12);
 }
+
+/// A scene whose support or joint curve has a line element that is no edge
+/// of any element (here from boundary node 3 to the interior node 5 of a
+/// 2 x 2 grid of Q4): `axijoint mesh scene.json` names the scene key, the
+/// mesh file, the curve, the line element and its nodes.
+#[test]
+fn scene_curve_off_the_element_edges_is_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let grid = std::fs::read_to_string(root().join("crates/mesh/tests/fixtures/grid_q4_v22.msh")).unwrap();
+    let msh = dir.path().join("grid.msh");
+    let scene = dir.path().join("scene.json");
+    let write_scene = |extra: &str| {
+        std::fs::write(
+            &scene,
+            format!(
+                r#"{{"mesh": {{"file": "grid.msh"}}, "materials": {{"body": {{"E": 1000, "nu": 0.3}}}},
+                    "supports": [{{"on": "bottom", "fix": "all"}}], "harmonics": 0{extra}}}"#
+            ),
+        )
+        .unwrap();
+    };
+    let run = || {
+        let out = axijoint(&["mesh", scene.to_str().unwrap()]);
+        let (stdout, stderr) = text(&out);
+        (out.status.success(), stdout, stderr)
+    };
+    let joint = r#", "joints": {"middle": {"k_xi": 1, "k_eta": 1, "k_theta": 1, "law": {"type": "linear"}}}"#;
+
+    std::fs::write(&msh, &grid).unwrap();
+    write_scene(joint);
+    let (ok, stdout, stderr) = run();
+    assert!(ok && stdout.contains("middle"), "{stdout}{stderr}");
+
+    std::fs::write(&msh, grid.replace("\n21 1 2 2 1 2 3\n", "\n21 1 2 2 1 3 5\n")).unwrap();
+    write_scene("");
+    let (ok, _, stderr) = run();
+    assert!(!ok);
+    for part in [
+        "scene.json: supports[0].on: ",
+        "grid.msh: physical curve 'bottom': line element 21 (L2, curve entity 1) with nodes 3 at (3, 0), 5 at (2, 1) is not an edge of any 2D element",
+    ] {
+        assert!(stderr.contains(part), "'{stderr}' does not mention '{part}'");
+    }
+
+    std::fs::write(&msh, grid.replace("\n23 1 2 3 2 5 6\n", "\n23 1 2 3 2 5 9\n")).unwrap();
+    write_scene(joint);
+    let (ok, _, stderr) = run();
+    assert!(!ok);
+    for part in [
+        "scene.json: joints.middle: ",
+        "physical curve 'middle': line element 23 (L2, curve entity 2) with nodes 5 at (2, 1), 9 at (3, 2)",
+    ] {
+        assert!(stderr.contains(part), "'{stderr}' does not mention '{part}'");
+    }
+}

@@ -8,7 +8,7 @@
 //! a crack tip. Each further component (the joint reaches a free boundary,
 //! another joint, or the axis from both sides) gets its own copy.
 
-use crate::{Joint, JointElement, JointKind, Mesh, MeshError};
+use crate::{CellEdges, Joint, JointElement, JointKind, Mesh, MeshError};
 use std::collections::{BTreeSet, HashMap};
 use std::path::Path;
 use std::str::FromStr;
@@ -102,7 +102,9 @@ struct Pending {
 }
 
 /// Turns each named curve into a joint (see the module doc). Cells must be
-/// valid and counter-clockwise ([`crate::validate()`] first).
+/// valid and counter-clockwise ([`crate::validate()`] first); every line
+/// element of a joint curve must be a cell edge ([`CellEdges::check`]), and
+/// an interior one (a face on each side).
 pub fn insert_joints(mesh: &mut Mesh, specs: &[JointSpec], path: &Path) -> Result<(), MeshError> {
     if specs.is_empty() {
         return Ok(());
@@ -125,6 +127,8 @@ pub fn insert_joints(mesh: &mut Mesh, specs: &[JointSpec], path: &Path) -> Resul
         }
     }
 
+    // Every line element of a joint curve must be an element edge.
+    let cell_edges = CellEdges::new(mesh);
     let mut pending = Vec::new();
     let mut seen = BTreeSet::new();
     for (s, spec) in specs.iter().enumerate() {
@@ -143,6 +147,7 @@ pub fn insert_joints(mesh: &mut Mesh, specs: &[JointSpec], path: &Path) -> Resul
                 spec.curve
             )));
         }
+        cell_edges.check(curve, path)?;
         let body_of = |name: &Option<String>| -> Result<Option<usize>, MeshError> {
             match name {
                 None => Ok(None),

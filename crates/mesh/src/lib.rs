@@ -13,10 +13,19 @@
 //! | [`Mesh`] | nodes, cells, bodies, boundary sets, joints (plain data) |
 //! | [`MshFile`] | a `.msh` file as read (MSH 4.1 ASCII/binary, MSH 2.2 ASCII) |
 //! | [`Joint`], [`JointElement`] | zero-thickness interfaces made by [`insert_joints`] |
+//! | [`CellEdges`] | the cell edges, to check the line elements of used curves |
 //! | [`MeshError`] | every failure, naming file, line or entity |
 //!
 //! Pipeline: [`gmsh::mesh_geo`] (`.geo` -> `.msh`), [`read_msh`] (`.msh` ->
-//! [`Mesh`]), [`insert_joints`], [`validate()`], [`Summary`].
+//! [`Mesh`]), [`validate()`], [`insert_joints`], [`Summary`].
+//!
+//! Validation: [`validate()`] refuses nodes at r < 0 and cells whose
+//! Jacobian vanishes or changes sign anywhere in the cell (bounded over the
+//! whole cell by [`geometry::jacobian_range`], not sampled at corners and
+//! Gauss points), and renumbers surfaces meshed clockwise; [`CellEdges`]
+//! checks that the line elements of the curves a caller uses (joints in
+//! [`insert_joints`], supports and loads in the solver's scene check) are
+//! edges of cells.
 
 pub mod error;
 pub mod geometry;
@@ -36,4 +45,4 @@ pub use mesh::*;
 pub use msh::{parse_msh, read_msh, MshFile};
 pub use pipeline::prepare;
 pub use summary::Summary;
-pub use validate::{validate, Validation};
+pub use validate::{check_curve_edges, validate, CellEdges, Validation};

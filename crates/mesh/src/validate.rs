@@ -1,7 +1,7 @@
 //! Mesh validation: what the solver needs before it can trust the mesh.
 
-use crate::geometry::corner_and_gauss_dets;
-use crate::{CellKind, Mesh, MeshError};
+use crate::geometry::jacobian_range;
+use crate::{CellKind, CurveSet, EdgeKind, Mesh, MeshError};
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -30,8 +30,14 @@ fn reversed(kind: CellKind) -> &'static [usize] {
 /// - at least one 2D element;
 /// - no node at r < 0 (|r| within 1e-9 of the model size is snapped to 0);
 /// - no degenerate element (Jacobian ~ 0) and no inverted or folded element
-///   (Jacobian of both signs, or clockwise among counter-clockwise ones);
-///   a surface entity meshed wholly clockwise is renumbered.
+///   (Jacobian zero or of both signs anywhere in the element, not only at
+///   its corners and Gauss points: [`jacobian_range`] bounds it over the
+///   whole element; or clockwise among counter-clockwise ones); a surface
+///   entity meshed wholly clockwise is renumbered.
+///
+/// The line elements of physical curves are checked where it is known which
+/// curves are used ([`CellEdges`]: joints in [`crate::insert_joints`],
+/// supports and loads by the solver's scene check).
 pub fn validate(mesh: &mut Mesh, path: &Path) -> Result<Validation, MeshError> {
     let invalid = |message: String| MeshError::Invalid {
         path: path.to_path_buf(),
@@ -74,16 +80,16 @@ pub fn validate(mesh: &mut Mesh, path: &Path) -> Result<Validation, MeshError> {
     let mut signs = Vec::with_capacity(mesh.cells.len());
     for cell in &mesh.cells {
         let coords = mesh.cell_coords(cell);
-        let (min, max) = corner_and_gauss_dets(cell.kind, &coords);
+        let (min, max) = jacobian_range(cell.kind, &coords);
         let h2 = cell_size2(&coords);
         let body = &mesh.bodies[cell.body].name;
         let here = || {
             format!(
-                "element {} ({}, body '{body}', surface entity {}) with nodes at {}",
+                "element {} ({}, body '{body}', surface entity {}) with nodes {}",
                 cell.tag,
                 cell.kind.name(),
                 cell.entity,
-                corners(&coords, cell.kind)
+                node_list(mesh, &cell.nodes)
             )
         };
         if !(min.is_finite() && max.is_finite()) || max.abs().max(min.abs()) <= 1e-12 * h2 {
@@ -91,8 +97,13 @@ pub fn validate(mesh: &mut Mesh, path: &Path) -> Result<Validation, MeshError> {
         }
         if min * max <= 0.0 {
             return Err(invalid(format!(
-                "{} is inverted or distorted: its Jacobian changes sign (min {min:.3e}, max {max:.3e})",
-                here()
+                "{} is inverted or distorted: its Jacobian changes sign over the element (det J is {min:.3e} at one point and {max:.3e} at another){}",
+                here(),
+                if cell.kind.is_quadratic() {
+                    "; is a mid-side node on the wrong edge, or too far from its edge's middle?"
+                } else {
+                    ""
+                }
             )));
         }
         let cw = max < 0.0;
@@ -101,20 +112,21 @@ pub fn validate(mesh: &mut Mesh, path: &Path) -> Result<Validation, MeshError> {
         e.1 += 1;
         signs.push(cw);
     }
-    for (cell, &cw) in mesh.cells.iter_mut().zip(&signs) {
+    for (cell, &cw) in mesh.cells.iter().zip(&signs) {
         let (n_cw, n) = clockwise[&cell.entity];
         if cw && n_cw < n {
-            let coords: Vec<[f64; 2]> = cell.nodes.iter().map(|&i| mesh.nodes[i]).collect();
             return Err(invalid(format!(
-                "element {} ({}, body '{}', surface entity {}) with nodes at {} is inverted: it is clockwise while {} other elements of its surface are counter-clockwise",
+                "element {} ({}, body '{}', surface entity {}) with nodes {} is inverted: it is clockwise while {} other elements of its surface are counter-clockwise",
                 cell.tag,
                 cell.kind.name(),
                 mesh.bodies[cell.body].name,
                 cell.entity,
-                corners(&coords, cell.kind),
+                node_list(mesh, &cell.nodes),
                 n - n_cw
             )));
         }
+    }
+    for (cell, &cw) in mesh.cells.iter_mut().zip(&signs) {
         if cw {
             let old = cell.nodes.clone();
             for (slot, &i) in cell.nodes.iter_mut().zip(reversed(cell.kind)) {
@@ -136,10 +148,193 @@ fn cell_size2(coords: &[[f64; 2]]) -> f64 {
     h
 }
 
-fn corners(coords: &[[f64; 2]], kind: CellKind) -> String {
-    coords[..kind.n_corners()]
+/// `L2` or `L3`.
+fn line_name(kind: EdgeKind) -> &'static str {
+    match kind {
+        EdgeKind::Lin2 => "L2",
+        EdgeKind::Lin3 => "L3",
+    }
+}
+
+/// `7 at (1, 0)`: a node by its file tag and coordinates.
+fn node(mesh: &Mesh, n: usize) -> String {
+    let p = mesh.nodes[n];
+    format!("{} at ({}, {})", mesh.node_tags[n], p[0], p[1])
+}
+
+/// `3 at (0, 0), 9 at (1, 0), ...`: nodes by file tag and coordinates.
+fn node_list(mesh: &Mesh, nodes: &[usize]) -> String {
+    nodes
         .iter()
-        .map(|p| format!("({}, {})", p[0], p[1]))
+        .map(|&n| node(mesh, n))
         .collect::<Vec<_>>()
-        .join(" ")
+        .join(", ")
+}
+
+/// The edges of a mesh's 2D elements, to check that the line elements of
+/// physical curves lie on them.
+///
+/// A support, load or joint acts on the nodes of its curve's line elements;
+/// a line element that is no element edge (an end node inside a body, a
+/// middle node that is not the edge's middle node, an L2 line along
+/// quadratic elements) puts it on the wrong nodes. Build once, then
+/// [`CellEdges::check`] each curve that is used; [`check_curve_edges`] does
+/// both. Works before and after [`crate::insert_joints`] (curves follow the
+/// node copies of their elements).
+#[derive(Debug)]
+pub struct CellEdges<'m> {
+    mesh: &'m Mesh,
+    /// The cells at each corner node: `cells[start[n]..start[n + 1]]`.
+    start: Vec<usize>,
+    cells: Vec<usize>,
+    /// Nodes used by some element.
+    in_cell: Vec<bool>,
+}
+
+impl<'m> CellEdges<'m> {
+    /// Indexes `mesh`'s cells by their corner nodes (two passes over the
+    /// cells, no hashing).
+    pub fn new(mesh: &'m Mesh) -> Self {
+        let n_nodes = mesh.nodes.len();
+        let mut start = vec![0usize; n_nodes + 1];
+        let mut in_cell = vec![false; n_nodes];
+        for cell in &mesh.cells {
+            for &n in &cell.nodes[..cell.kind.n_corners()] {
+                start[n + 1] += 1;
+            }
+            for &n in &cell.nodes {
+                in_cell[n] = true;
+            }
+        }
+        for n in 0..n_nodes {
+            start[n + 1] += start[n];
+        }
+        let mut next = start.clone();
+        let mut cells = vec![0usize; start[n_nodes]];
+        for (c, cell) in mesh.cells.iter().enumerate() {
+            for &n in &cell.nodes[..cell.kind.n_corners()] {
+                cells[next[n]] = c;
+                next[n] += 1;
+            }
+        }
+        CellEdges {
+            mesh,
+            start,
+            cells,
+            in_cell,
+        }
+    }
+
+    /// The element edges with corners `a` and `b` (either order): `(cell,
+    /// local edge)`.
+    fn edges_between(&self, a: usize, b: usize) -> impl Iterator<Item = (usize, usize)> + '_ {
+        let cells = &self.cells[self.start[a]..self.start[a + 1]];
+        cells.iter().flat_map(move |&c| {
+            let cell = &self.mesh.cells[c];
+            (0..cell.kind.n_corners()).filter_map(move |e| {
+                let l = cell.kind.edge_nodes(e);
+                let (p, q) = (cell.nodes[l[0]], cell.nodes[l[1]]);
+                ((p, q) == (a, b) || (p, q) == (b, a)).then_some((c, e))
+            })
+        })
+    }
+
+    /// Checks that every line element of `curve` is an edge of a 2D
+    /// element: its end nodes are the two corners of an element edge, its
+    /// middle node (L3) is that edge's middle node, and it has as many nodes
+    /// as the element's edges. The error names the file, the curve, the line
+    /// element (tag and nodes, by file tag and coordinates) and what is off.
+    pub fn check(&self, curve: &CurveSet, path: &Path) -> Result<(), MeshError> {
+        let mesh = self.mesh;
+        for edge in &curve.edges {
+            let (a, b) = (edge.nodes[0], edge.nodes[1]);
+            // The line is element edge e of cell c, middle node and all.
+            let fits = |(c, e): (usize, usize)| {
+                let cell = &mesh.cells[c];
+                let l = cell.kind.edge_nodes(e);
+                edge.kind == cell.kind.edge_kind()
+                    && (edge.kind == EdgeKind::Lin2 || cell.nodes[l[2]] == edge.nodes[2])
+            };
+            let mut found = self.edges_between(a, b).peekable();
+            let Some(&first) = found.peek() else {
+                let loose: Vec<String> = [a, b]
+                    .iter()
+                    .filter(|&&n| !self.in_cell[n])
+                    .map(|&n| format!("node {}", node(mesh, n)))
+                    .collect();
+                return Err(self.off_edges(
+                    curve,
+                    edge,
+                    path,
+                    if loose.is_empty() {
+                        format!(
+                            "no element has an edge from node {} to node {}",
+                            mesh.node_tags[a], mesh.node_tags[b]
+                        )
+                    } else {
+                        format!("{} belongs to no 2D element", loose.join(" and "))
+                    },
+                ));
+            };
+            if found.any(fits) {
+                continue;
+            }
+            let (c, e) = first;
+            let cell = &mesh.cells[c];
+            let want = cell.kind.edge_kind();
+            let why = if edge.kind != want {
+                format!(
+                    "its end nodes are the corners of an edge of element {} ({}), whose edges are {} lines",
+                    cell.tag,
+                    cell.kind.name(),
+                    line_name(want)
+                )
+            } else {
+                format!(
+                    "its end nodes are the corners of an edge of element {} ({}), whose middle node is {}, not {}",
+                    cell.tag,
+                    cell.kind.name(),
+                    node(mesh, cell.nodes[cell.kind.edge_nodes(e)[2]]),
+                    mesh.node_tags[edge.nodes[2]]
+                )
+            };
+            return Err(self.off_edges(curve, edge, path, why));
+        }
+        Ok(())
+    }
+
+    fn off_edges(&self, curve: &CurveSet, edge: &crate::Edge, path: &Path, why: String) -> MeshError {
+        let kind = line_name(edge.kind);
+        MeshError::Invalid {
+            path: path.to_path_buf(),
+            message: format!(
+                "physical curve '{}': line element {} ({kind}, curve entity {}) with nodes {} is not an edge of any 2D element: {why} (a support, load or joint on these nodes would act on the wrong nodes)",
+                curve.name,
+                edge.tag,
+                edge.entity,
+                node_list(self.mesh, &edge.nodes)
+            ),
+        }
+    }
+}
+
+/// Checks the line elements of the physical curves `curves` with
+/// [`CellEdges::check`]; a name that is no physical curve is an error.
+pub fn check_curve_edges(mesh: &Mesh, curves: &[&str], path: &Path) -> Result<(), MeshError> {
+    let edges = CellEdges::new(mesh);
+    for &name in curves {
+        let curve = mesh.curve(name).ok_or_else(|| MeshError::UnknownName {
+            path: path.to_path_buf(),
+            what: "curve",
+            name: name.to_string(),
+            known: mesh
+                .curves
+                .iter()
+                .map(|c| c.name.as_str())
+                .collect::<Vec<_>>()
+                .join(", "),
+        })?;
+        edges.check(curve, path)?;
+    }
+    Ok(())
 }

@@ -1,8 +1,10 @@
 //! The `.msh` reader never panics: random mutations of valid fixtures (ASCII
 //! and binary) must parse and convert to `Ok` or to an `Err` that names the
-//! file. Cases: `AXIJOINT_FUZZ_CASES` (default 256).
+//! file; a mesh that converts goes on through validation, the curve-edge
+//! check of every physical curve and joint insertion, with the same rule.
+//! Cases: `AXIJOINT_FUZZ_CASES` (default 256).
 
-use axijoint_mesh::parse_msh;
+use axijoint_mesh::{check_curve_edges, insert_joints, parse_msh, validate, JointSpec};
 use proptest::prelude::*;
 use std::path::Path;
 use std::sync::OnceLock;
@@ -10,7 +12,7 @@ use std::sync::OnceLock;
 const FIXTURES: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures");
 
 /// Valid files to mutate: hand-written and gmsh-made, every format.
-const FILES: [&str; 9] = [
+const FILES: [&str; 13] = [
     "sparse_v41.msh",
     "sparse_v22.msh",
     "unassigned_v41.msh",
@@ -20,6 +22,10 @@ const FILES: [&str; 9] = [
     "tri1_v41_bin.msh",
     "quad2_v41_bin.msh",
     "tri1_v41_param_bin.msh",
+    "square_t6_v22.msh",
+    "square_q8_v22.msh",
+    "square_q9_v22.msh",
+    "grid_q4_v22.msh",
 ];
 
 fn fixtures() -> &'static [Vec<u8>] {
@@ -32,10 +38,21 @@ fn fixtures() -> &'static [Vec<u8>] {
     })
 }
 
-/// Parses and converts; an error must name the file.
+/// Parses, converts, validates, checks the curves and inserts every curve
+/// as a joint; an error must name the file.
 fn read_without_panic(bytes: &[u8]) {
     let path = Path::new("fuzz.msh");
-    if let Err(e) = parse_msh(bytes, path).and_then(|m| m.to_mesh(path)) {
+    let result = parse_msh(bytes, path)
+        .and_then(|m| m.to_mesh(path))
+        .and_then(|mut mesh| {
+            validate(&mut mesh, path)?;
+            let names: Vec<String> = mesh.curves.iter().map(|c| c.name.clone()).collect();
+            let names: Vec<&str> = names.iter().map(String::as_str).collect();
+            check_curve_edges(&mesh, &names, path)?;
+            let specs: Vec<JointSpec> = names.iter().map(|n| JointSpec::new(n)).collect();
+            insert_joints(&mut mesh, &specs, path)
+        });
+    if let Err(e) = result {
         assert!(e.to_string().starts_with("fuzz.msh"), "{e}");
     }
 }

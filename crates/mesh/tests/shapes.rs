@@ -8,6 +8,7 @@
 
 use axijoint_mesh::geometry::{
     cell_area, corner_and_gauss_dets, derivatives_rz, edge_length_and_lateral, interpolate, jacobian,
+    jacobian_range,
 };
 use axijoint_mesh::quadrature::{default_rule, gauss_legendre, gauss_lobatto, quad_gauss, triangle};
 use axijoint_mesh::{CellKind, EdgeKind};
@@ -429,4 +430,116 @@ fn corner_and_gauss_dets_flag_orientation_and_inversion() {
     let (min, max) = corner_and_gauss_dets(CellKind::Tri3, &DISTORTED_TRI);
     let two_a = 2.0 * shoelace(&DISTORTED_TRI);
     assert!((min - two_a).abs() < 1e-14 && (max - two_a).abs() < 1e-14);
+}
+
+/// `det J` on a dense lattice of the reference cell (65 points a side):
+/// `(min, max, min |det J|)`.
+fn sampled_dets(kind: CellKind, x: &[[f64; 2]]) -> (f64, f64, f64) {
+    const N: usize = 64;
+    let mut dn = [[0.0; 2]; 9];
+    let (mut lo, mut hi, mut small) = (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY);
+    for i in 0..=N {
+        for j in 0..=N {
+            let (u, v) = (i as f64 / N as f64, j as f64 / N as f64);
+            let xi = if kind.is_triangle() {
+                if i + j > N {
+                    continue;
+                }
+                [u, v]
+            } else {
+                [2.0 * u - 1.0, 2.0 * v - 1.0]
+            };
+            kind.eval_dn(xi, &mut dn);
+            let d = jacobian(kind, x, &dn).1;
+            lo = lo.min(d);
+            hi = hi.max(d);
+            small = small.min(d.abs());
+        }
+    }
+    (lo, hi, small)
+}
+
+/// `jacobian_range` against a dense lattice on randomly distorted elements
+/// of every family: a proven sign is the sign of every sample and bounds
+/// them (T3, Q4, T6: the exact extremes, within the lattice's resolution);
+/// a sign change is seen by the lattice too (or a sample near zero). The
+/// quadratic families include elements whose corners and Gauss points all
+/// have one sign but whose `det J` changes sign elsewhere: the old check
+/// passed them, `jacobian_range` does not.
+#[test]
+fn jacobian_range_covers_the_whole_element() {
+    let mut rng = Rng(0x2545_f491_4f6c_dd1d);
+    for kind in CELLS {
+        let base = straight(kind, corners(kind));
+        let (mut proven, mut changes, mut hidden) = (0, 0, 0);
+        for trial in 0..3000 {
+            // Corners moved by up to 0.05 .. 0.5, mid-side and centre nodes
+            // by up to 0.08 .. 0.8 (the element is about 1.3 wide).
+            let t = (trial % 10 + 1) as f64 / 10.0;
+            let x: Vec<[f64; 2]> = base
+                .iter()
+                .enumerate()
+                .map(|(i, p)| {
+                    let a = if i < kind.n_corners() { 0.5 * t } else { 0.8 * t };
+                    [
+                        p[0] + a * (2.0 * rng.next() - 1.0),
+                        p[1] + a * (2.0 * rng.next() - 1.0),
+                    ]
+                })
+                .collect();
+            let (lo, hi) = jacobian_range(kind, &x);
+            let (smin, smax, small) = sampled_dets(kind, &x);
+            let scale = smin.abs().max(smax.abs());
+            let what = format!("{kind:?} trial {trial} {x:?}: range ({lo}, {hi}), samples ({smin}, {smax})");
+            if lo * hi > 0.0 {
+                proven += 1;
+                assert!(smin * smax > 0.0 && smin * lo > 0.0, "{what}");
+                assert!(lo <= smin + 1e-12 * scale && hi >= smax - 1e-12 * scale, "{what}");
+                if !matches!(kind, CellKind::Quad8 | CellKind::Quad9) {
+                    // Exact extremes: the lattice comes within its resolution.
+                    assert!(smin - lo <= 1e-2 * scale && hi - smax <= 1e-2 * scale, "{what}");
+                }
+            } else {
+                changes += 1;
+                assert!(smin * smax <= 0.0 || small <= 1e-3 * scale, "{what}");
+                assert!(
+                    lo >= smin - 1e-2 * scale && hi <= smax + 1e-2 * scale,
+                    "{what}: witnesses"
+                );
+                let (cmin, cmax) = corner_and_gauss_dets(kind, &x);
+                if cmin * cmax > 0.0 {
+                    hidden += 1;
+                }
+            }
+        }
+        println!("{kind:?}: {proven} proven, {changes} sign changes ({hidden} hidden from corners and Gauss points)");
+        assert!(proven > 100, "{kind:?}: {proven} proven");
+        if kind.is_quadratic() {
+            assert!(changes > 100, "{kind:?}: {changes} sign changes");
+            assert!(
+                hidden > 10,
+                "{kind:?}: only {hidden} sign changes hidden from corners and Gauss points"
+            );
+        } else {
+            assert_eq!(hidden, 0, "{kind:?}: det J is affine, its corners decide");
+        }
+    }
+}
+
+/// The T6: mid-side nodes on the wrong edges (each one the middle
+/// of another edge of the triangle). `det J` is 5 at the corners and
+/// positive at the 6 Gauss points but -1/3 at the centroid.
+#[test]
+fn t6_with_mid_side_nodes_on_the_wrong_edges() {
+    let (a, b, c) = ([1.0, 0.0], [1.0, 1.0], [2.0, 1.0]);
+    let mid = |p: [f64; 2], q: [f64; 2]| [(p[0] + q[0]) / 2.0, (p[1] + q[1]) / 2.0];
+    // Edges 0-1, 1-2, 2-0 get the middles of 1-2, 2-0, 0-1.
+    let x = [a, b, c, mid(b, c), mid(c, a), mid(a, b)];
+    let (cmin, cmax) = corner_and_gauss_dets(CellKind::Tri6, &x);
+    assert!(cmin > 0.0 && (cmax - 5.0).abs() < 1e-12, "({cmin}, {cmax})");
+    let mut dn = [[0.0; 2]; 6];
+    CellKind::Tri6.eval_dn([1.0 / 3.0, 1.0 / 3.0], &mut dn);
+    assert!((jacobian(CellKind::Tri6, &x, &dn).1 + 1.0 / 3.0).abs() < 1e-12);
+    let (lo, hi) = jacobian_range(CellKind::Tri6, &x);
+    assert!(lo < 0.0 && (hi - 5.0).abs() < 1e-12, "({lo}, {hi})");
 }

@@ -5,7 +5,7 @@ use crate::loads::{
     face_section, point_locations, point_off_axis, tolerance, ANTISYMMETRIC_ZERO, RING_ON_AXIS,
 };
 use crate::material::MaterialError;
-use axijoint_mesh::{CurveSet, JointKind, Mesh};
+use axijoint_mesh::{CellEdges, CurveSet, JointKind, Mesh};
 use std::collections::BTreeSet;
 
 /// Comma-separated names, or `none`.
@@ -360,10 +360,18 @@ impl Scene {
     /// [`Scene::check_values`], then every name against `mesh` (before or
     /// after joint insertion): each material's surface exists and each
     /// surface has a material; joint curves and their sides, support and
-    /// load targets exist; a resultant's curve is a flat face perpendicular
-    /// to the axis; ring loads are off the axis and point loads on it.
+    /// load targets exist; every line element of a joint, support or load
+    /// curve is an edge of a 2D element ([`CellEdges::check`]); a
+    /// resultant's curve is a flat face perpendicular to the axis; ring
+    /// loads are off the axis and point loads on it.
     pub fn check(&self, mesh: &Mesh) -> Result<(), SceneError> {
         self.check_values()?;
+        let edges = CellEdges::new(mesh);
+        let on_edges = |curve: &CurveSet, key: &str| {
+            edges
+                .check(curve, &self.mesh_path())
+                .map_err(|e| self.invalid(key, e.to_string()))
+        };
         for name in self.materials.keys() {
             self.surface(mesh, name, format!("materials.{name}"))?;
         }
@@ -378,7 +386,8 @@ impl Scene {
             ));
         }
         for (name, joint) in &self.joints {
-            self.curve(mesh, name, &format!("joints.{name}"))?;
+            let key = format!("joints.{name}");
+            on_edges(self.curve(mesh, name, &key)?, &key)?;
             for (side, body) in [("bottom", &joint.bottom), ("top", &joint.top)] {
                 if let Some(body) = body {
                     self.surface(mesh, body, format!("joints.{name}.{side}"))?;
@@ -386,7 +395,9 @@ impl Scene {
             }
         }
         for (i, s) in self.supports.iter().enumerate() {
-            if mesh.curve(&s.on).is_none() && mesh.point(&s.on).is_none() {
+            if let Some(curve) = mesh.curve(&s.on) {
+                on_edges(curve, &format!("supports[{i}].on"))?;
+            } else if mesh.point(&s.on).is_none() {
                 let known = mesh
                     .curves
                     .iter()
@@ -406,10 +417,11 @@ impl Scene {
             let key = format!("loads[{i}].on");
             match load {
                 Load::Traction(l) => {
-                    self.curve(mesh, &l.on, &key)?;
+                    on_edges(self.curve(mesh, &l.on, &key)?, &key)?;
                 }
                 Load::Resultant(l) => {
                     let curve = self.curve(mesh, &l.on, &key)?;
+                    on_edges(curve, &key)?;
                     face_section(mesh, curve).map_err(|e| self.invalid(key, e))?;
                 }
                 Load::Ring(l) => {
