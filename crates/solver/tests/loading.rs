@@ -10,6 +10,8 @@
 //! | pile in soil | axial, lateral, both x C = 0.02, 0.5 reach the whole load; equilibrium; stiffer than C = 0, softer than linear joints | 1e-6 (reactions) |
 //! | sweep | Scene P, C x H x size x M with the default settings: every cell reaches the whole load | - |
 //! | stiff joints | Scene P, k_eta h / E = 12.5, 100, defaults: the whole load, in equilibrium; the pile ends within 1 % | reactions 1e-6 |
+//! | pure shear, T = 0 | a twisted block with no normal load, harmonics 0..=4, 0.89 T_max: the whole load in one step (round-off normal stress does not debond) | - |
+//! | N steps | `{"steps": 10}`: exactly 10 steps, the last at lambda = 1 exactly | exact |
 //! | softer reference | k_eta h / E = 2: newton (assembled with k h / E = 1, the rest released) = anderson (assembled as is) | 1e-5 |
 //!
 //! Scenes: `geo/block_torsion.json` (rigid block on a cohesive joint,
@@ -300,4 +302,42 @@ fn softer_reference_in_k_does_not_change_the_answer() {
     let (a, b) = (pile_end_x(&newton), pile_end_x(&anderson));
     println!("k h / E = 2: newton {a:.9e}, anderson {b:.9e}");
     assert!((a / b - 1.0).abs() < 1e-5, "{a} vs {b}");
+}
+
+/// A joint in pure shear with no tensile strength (issue found by trying an
+/// anchor under torque): the block twisted with no axial force, harmonics
+/// 0..=4, at 0.89 T_max. The analysis and synthesis of the released shear
+/// leave a normal stress of round-off size (1e-20 m of opening); before,
+/// that debonded points for good and the run ended at a false "limit load
+/// factor 0.8438". Normal stresses within 1e-10 of the largest elastic
+/// joint traction count as 0.
+#[test]
+fn round_off_normal_stress_does_not_debond_a_joint_in_pure_shear() {
+    let mut sc = scene("block_torsion.json");
+    sc.solver = SolverSettings::default();
+    sc.harmonics = 4u32.into();
+    let l = resultant(&mut sc);
+    l.force = [0.0; 3];
+    let r = run(&sc);
+    let p = path(&r);
+    assert!(p.limit.is_none(), "{:?}", p.limit);
+    assert_eq!(p.steps.len(), 1);
+    assert_eq!(p.steps[0].open, 0);
+}
+
+/// `{"steps": 10}`: ten increments of 1/10 add up to 1 - 1e-16 in floating
+/// point; the run must end with its tenth step at lambda = 1 exactly, not
+/// with an eleventh step of size 1e-16 (which reclassified points on the
+/// yield surface and wrote two rows at lambda = 1).
+#[test]
+fn n_steps_end_exactly_at_the_whole_load() {
+    let mut sc = scene("block_torsion.json");
+    sc.solver = SolverSettings {
+        loading: Loading::Steps(10),
+        ..SolverSettings::default()
+    };
+    let r = run(&sc);
+    let p = path(&r);
+    assert_eq!(p.steps.len(), 10);
+    assert_eq!(p.steps.last().map(|s| s.lambda), Some(1.0));
 }

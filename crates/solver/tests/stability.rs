@@ -691,6 +691,8 @@ const STIFF_ROWS: [f64; 4] = [0.5, 1.0, 12.5, 1e6];
 /// releases the difference, with the harmonic-coupled preconditioner: it
 /// converges one-shot at 12.5; at 1e6 one-shot it stalls, reported as
 /// `StiffJoint` (stepped loading: crates/solver/tests/loading.rs).
+/// Anderson converges at 12.5 too (209 iterations) since a normal stress of
+/// round-off size no longer opens a point.
 ///
 /// Then the stiffest joint with a law that never yields (C and tensile
 /// strength 1e12): one iteration, and the bonded Scene P's result (the
@@ -710,7 +712,9 @@ fn case3_very_stiff_joint() {
                 let h = joint_element_length(&run.linear.model.mesh);
                 assert!((h / SCENE_P_H - 1.0).abs() < 0.05, "h = {h}");
             }
-            let want = if kh_over_e > 5.0 && !(name == "newton" && kh_over_e < 100.0) {
+            // Anderson and newton converge at 12.5 (anderson since normal
+            // stresses of round-off size no longer open a point).
+            let want = if kh_over_e > 5.0 && !(name != "paper" && kh_over_e < 100.0) {
                 Category::StiffJoint
             } else {
                 Category::Converged
@@ -766,7 +770,7 @@ fn case3_very_stiff_joint() {
 fn stiff_joint_is_not_reported_as_no_equilibrium() {
     let _guard = serial();
     let sc = stiff_scene_p("pile_footing.json", 12.5);
-    for (name, m) in methods().into_iter().filter(|(name, _)| *name != "newton") {
+    for (name, m) in methods().into_iter().filter(|(name, _)| *name == "paper") {
         let s = solve(&sc, m, 1.0);
         assert_eq!(s.category, Category::StiffJoint, "{name}: {}", s.message);
         assert!(s.message.contains("k h / E = 12.5"), "{name}: {}", s.message);

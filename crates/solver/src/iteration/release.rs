@@ -112,7 +112,7 @@ fn reference_tangent(law: Tangent, k: &JointSprings, k_a: &JointSprings) -> Tang
 impl Setup<'_> {
     /// The relative displacement at point `i` from the joint-node values
     /// `u` of one section.
-    fn relative(&self, i: usize, u: &[f64]) -> [f64; 3] {
+    pub(super) fn relative(&self, i: usize, u: &[f64]) -> [f64; 3] {
         let nl = &self.local[i];
         let mut ue = [0.0; 18];
         for (a, &j) in nl.iter().enumerate() {
@@ -160,9 +160,10 @@ impl Setup<'_> {
             let springs = joint.springs;
             let d = self.relative(i, u_s);
             let law = &self.laws[info.joint];
+            let d_law = self.law_displacement(info.joint, d);
             let (p, state) = match history {
-                Some(h) => admissible_history(law, &springs, d, &h[i]),
-                None => admissible(law, &springs, d, &mut broken[i]),
+                Some(h) => admissible_history(law, &springs, d_law, &h[i]),
+                None => admissible(law, &springs, d_law, &mut broken[i]),
             };
             // Released: what K_m's spring carries minus what the law allows.
             let trial = joint.assembled.traction(d);

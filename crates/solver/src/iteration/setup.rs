@@ -47,6 +47,11 @@ pub(super) struct Setup<'a> {
     /// "Release" the whole traction of the assembled springs: only for
     /// [`Setup::reference_release`].
     pub(super) reference_law: bool,
+    /// Normal stresses within this of 0 count as 0 in the law (1e-10 of the
+    /// largest joint traction of the elastic solution): the analysis and
+    /// synthesis of a pure shear leave a normal stress of round-off size,
+    /// which must not open or debond a joint whose tensile strength is 0.
+    pub(super) tension_tol: f64,
 }
 
 impl<'a> Setup<'a> {
@@ -170,7 +175,7 @@ impl<'a> Setup<'a> {
                 [pick(0), pick(1)]
             })
             .collect();
-        Ok(Setup {
+        let mut setup = Setup {
             model,
             laws,
             sections,
@@ -186,7 +191,45 @@ impl<'a> Setup<'a> {
             lambda: 1.0,
             history: None,
             reference_law: false,
-        })
+            tension_tol: 0.0,
+        };
+        setup.tension_tol = 1e-10 * setup.elastic_traction_max();
+        Ok(setup)
+    }
+
+    /// The largest joint traction `|k_a d|` of the elastic solution (the
+    /// whole load, the springs as assembled) over every point and section.
+    fn elastic_traction_max(&self) -> f64 {
+        let mut u_s = vec![0.0; self.len()];
+        self.synthesize_all(&self.u0, &mut u_s);
+        let m = self.per_section();
+        (0..self.sections.len())
+            .map(|s| {
+                self.points
+                    .iter()
+                    .enumerate()
+                    .map(|(i, info)| {
+                        let d = self.relative(i, &u_s[s * m..(s + 1) * m]);
+                        // The assembled springs: with a softened joint the
+                        // law's springs on this (softer) solution would
+                        // overstate the tractions k / k_ref times.
+                        let t = self.model.joints[info.joint].assembled.traction(d);
+                        t[0].hypot(t[1]).hypot(t[2])
+                    })
+                    .fold(0.0f64, f64::max)
+            })
+            .fold(0.0f64, f64::max)
+    }
+
+    /// `d` with its normal part zeroed where `|k_eta d_eta|` is within
+    /// [`Setup::tension_tol`] (what the law sees).
+    pub(super) fn law_displacement(&self, joint: usize, d: [f64; 3]) -> [f64; 3] {
+        let k_eta = self.model.joints[joint].springs.k_eta;
+        if (k_eta * d[1]).abs() <= self.tension_tol {
+            [d[0], 0.0, d[2]]
+        } else {
+            d
+        }
     }
 
     /// Length of a section-force vector x: sections x joint nodes x 3.

@@ -154,7 +154,13 @@ pub fn stress_transfer_stepped<T>(
     let mut failed_at: Option<f64> = None;
     let (mut cutbacks, mut spent) = (0u32, 0u32);
     let limit = loop {
-        let target = (lam_c + delta).min(1.0);
+        // Within rounding of the whole load: the whole load (N steps of 1 / N
+        // add up to 1 - 1e-16, and a step of that size is noise).
+        let target = if lam_c + delta >= 1.0 - 1e-9 {
+            1.0
+        } else {
+            lam_c + delta
+        };
         setup.lambda = target;
         setup.history = Some(committed.clone());
         match solve_step(&mut setup, x_c.clone(), psi_ref, settings, &mut progress) {
@@ -270,16 +276,22 @@ fn solve_step(
             e.prepend_history(&records);
             e
         })?;
-        let mut debonded = 0usize;
+        // The intact pairs above their tensile strength.
+        let n_p = setup.points.len().max(1);
+        let breaking: Vec<usize> = setup.history.as_ref().map_or_else(Vec::new, |hist| {
+            (0..hist.len())
+                .filter(|&i| {
+                    let info = &setup.points[i % n_p];
+                    let springs = setup.model.joints[info.joint].springs;
+                    let d = setup.law_displacement(info.joint, conv.ev.d[i]);
+                    exceeds_tensile_strength(&setup.laws[info.joint], &springs, d, &hist[i])
+                })
+                .collect()
+        });
+        let debonded = breaking.len();
         if let Some(hist) = setup.history.as_mut() {
-            let n_p = setup.points.len().max(1);
-            for (i, h) in hist.iter_mut().enumerate() {
-                let info = &setup.points[i % n_p];
-                let springs = setup.model.joints[info.joint].springs;
-                if exceeds_tensile_strength(&setup.laws[info.joint], &springs, conv.ev.d[i], h) {
-                    h.debonded = true;
-                    debonded += 1;
-                }
+            for i in breaking {
+                hist[i].debonded = true;
             }
         }
         records.append(&mut conv.history);
