@@ -9,7 +9,7 @@
 //! | scaling | C, T and every load times 2: displacements times 2 | 1e-6 |
 //! | pile in soil | axial, lateral, both x C = 0.02, 0.5 reach the whole load; equilibrium; stiffer than C = 0, softer than linear joints | 1e-6 (reactions) |
 //! | sweep | Scene P, C x H x size x M with the default settings: every cell reaches the whole load | - |
-//! | stiff joints | Scene P, k_eta h / E = 12.5, 100, defaults: the whole load, in equilibrium; the pile ends within 1 % | reactions 1e-6 |
+//! | stiff joints | Scene P, k_eta h / E = 12.5, 100, 1000, defaults: the whole load, in equilibrium; the pile end settles as k grows | reactions 1e-6 |
 //! | pure shear, T = 0 | a twisted block with no normal load, harmonics 0..=4, 0.89 T_max: the whole load in one step (round-off normal stress does not debond) | - |
 //! | N steps | `{"steps": 10}`: exactly 10 steps, the last at lambda = 1 exactly | exact |
 //! | softer reference | k_eta h / E = 2: newton (assembled with k h / E = 1, the rest released) = anderson (assembled as is) | 1e-5 |
@@ -263,15 +263,16 @@ fn pile_end_x(r: &Run) -> f64 {
 
 /// Stiff joints (issue 11 item 5): with the defaults (newton with a softer
 /// reference in K_m and the harmonic-coupled preconditioner, auto steps)
-/// Scene P reaches the whole load at k_eta h / E = 12.5 and 100 (before:
-/// every method stalled at 12.5), in equilibrium; the pile ends differ by
-/// less than 1 % (measured 3.0659 and 3.0897 mm, 0.77 %: the joint tends to
-/// a rigid no-tension contact). At 1000 the run stops short (lambda = 0.73,
-/// docs/stability.md).
+/// Scene P reaches the whole load at k_eta h / E = 12.5, 100 and 1000
+/// (before: every method stalled at 12.5), in equilibrium; the pile end
+/// settles as the joint stiffens, towards a rigid no-tension contact (not
+/// the bonded answer: the joint opens): the change from 100 to 1000 is
+/// smaller than from 12.5 to 100. Measured 3.0659, 3.0897, 3.1087 mm (1, 1
+/// and 13 steps). At 1e4 and above the run stops short (docs/stability.md).
 #[test]
 fn stiff_joints_reach_the_whole_load_with_the_defaults() {
     let mut u = Vec::new();
-    for kh in [12.5, 100.0] {
+    for kh in [12.5, 100.0, 1000.0] {
         let r = run(&stiff_scene_p(kh));
         let p = path(&r);
         assert!(p.limit.is_none(), "k h / E = {kh}: {:?}", p.limit);
@@ -285,7 +286,7 @@ fn stiff_joints_reach_the_whole_load_with_the_defaults() {
         );
         u.push(pile_end_x(&r));
     }
-    assert!((u[1] / u[0] - 1.0).abs() < 0.01, "{u:?}");
+    assert!((u[2] - u[1]).abs() < (u[1] - u[0]).abs(), "{u:?}");
 }
 
 /// The softer reference changes the iteration, not the answer: at
