@@ -207,7 +207,7 @@ fn cli_errors_exit_nonzero_and_name_the_culprit() {
     std::fs::write(&bad, "Point(1) = {0, 0, 0;\n").unwrap();
     let out = axijoint(&["mesh", bad.to_str().unwrap()]);
     let (_, err) = text(&out);
-    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(out.status.code(), Some(4), "a gmsh failure");
     assert!(err.contains("bad.geo") && err.contains("syntax error"), "{err}");
 
     let out = axijoint(&[

@@ -125,7 +125,7 @@ fn output_folder_rules() {
         "size=0.5",
     ]);
     let (_, err) = text(&run);
-    assert_eq!(run.status.code(), Some(1));
+    assert_eq!(run.status.code(), Some(5), "an output folder that cannot be used");
     assert!(
         err.contains("mine") && err.contains("not an axijoint solution folder"),
         "{err}"
@@ -148,7 +148,7 @@ fn output_folder_rules() {
         "--set",
         "size=-1",
     ]);
-    assert_eq!(run.status.code(), Some(1));
+    assert_eq!(run.status.code(), Some(4), "gmsh rejects the size");
     let kept: Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("solution.json")).unwrap()).unwrap();
     assert_eq!(kept["mesh"]["nodes"], second["mesh"]["nodes"]);

@@ -29,7 +29,8 @@ pub enum MeshError {
         /// The `.geo` file.
         path: PathBuf,
     },
-    /// gmsh ran and failed.
+    /// gmsh ran and failed (non-zero exit or `Error` lines, e.g. a `.geo`
+    /// it rejects), or could not be started.
     #[error("{path}: gmsh failed ({status}):\n{output}")]
     GmshFailed {
         /// The `.geo` file.

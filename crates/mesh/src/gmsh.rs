@@ -32,9 +32,12 @@ pub fn mesh_geo(geo: &Path, parameters: &[(String, f64)], msh: &Path) -> Result<
         std::io::ErrorKind::NotFound => MeshError::GmshMissing {
             path: geo.to_path_buf(),
         },
-        _ => MeshError::Io {
-            path: gmsh_program(),
-            source: e,
+        // gmsh is there but could not be started (not executable, ...): a
+        // gmsh failure, not one of the input file.
+        _ => MeshError::GmshFailed {
+            path: geo.to_path_buf(),
+            status: format!("{} could not be started", gmsh_program().display()),
+            output: e.to_string(),
         },
     })?;
     let stderr = String::from_utf8_lossy(&out.stderr);

@@ -27,5 +27,25 @@ pub enum SolverError {
         path: PathBuf,
         /// What went wrong.
         message: String,
+        /// Whose fault it is: the file system, the folder read, or the result.
+        fault: OutputFault,
     },
+}
+
+/// What made a [`SolverError::Output`]: lets a caller (the `axijoint`
+/// binary's exit status) tell a disk that refuses from a folder that is not
+/// a solution and from a result that cannot be written.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OutputFault {
+    /// The file system refused (permissions, a full disk, a path under a
+    /// regular file, ...), or the output folder cannot be used (it exists
+    /// and is not a solution folder).
+    Io,
+    /// A solution folder read back is not usable: no `solution.json` or
+    /// another of its files, malformed, another version, truncated, or a
+    /// mesh that does not match.
+    Content,
+    /// A displacement to write is not finite: the run's result is at
+    /// fault, not the disk.
+    NotFinite,
 }

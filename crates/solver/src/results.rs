@@ -12,7 +12,7 @@
 //! into place only when complete; an existing target is replaced only if it is
 //! an earlier solution folder (it has `solution.json`) or empty.
 
-use crate::error::SolverError;
+use crate::error::{OutputFault, SolverError};
 use crate::loads::Resultants;
 use crate::scene::Scene;
 use crate::solution::{Displacements, HarmonicDisplacement, SupportReaction, Timings};
@@ -120,10 +120,33 @@ pub fn mesh_checksum(mesh: &Mesh) -> String {
     format!("{h:016x}")
 }
 
+/// A file or folder that could not be written: the file system's fault.
 fn out_err(path: &Path, message: impl std::fmt::Display) -> SolverError {
+    output_error(path, message, OutputFault::Io)
+}
+
+/// A solution folder's file that is not usable as read.
+fn bad_saved(path: &Path, message: impl std::fmt::Display) -> SolverError {
+    output_error(path, message, OutputFault::Content)
+}
+
+/// A solution folder's file that could not be read: a missing file means
+/// the folder is not (or no longer) a solution, any other error is the
+/// file system's.
+fn read_err(path: &Path, e: std::io::Error) -> SolverError {
+    let fault = if e.kind() == std::io::ErrorKind::NotFound {
+        OutputFault::Content
+    } else {
+        OutputFault::Io
+    };
+    output_error(path, e, fault)
+}
+
+fn output_error(path: &Path, message: impl std::fmt::Display, fault: OutputFault) -> SolverError {
     SolverError::Output {
         path: path.to_path_buf(),
         message: message.to_string(),
+        fault,
     }
 }
 
@@ -138,12 +161,13 @@ pub fn write_solution(
 ) -> Result<(), SolverError> {
     for h in &u.harmonics {
         if h.symmetric.iter().chain(&h.antisymmetric).any(|v| !v.is_finite()) {
-            return Err(out_err(
+            return Err(output_error(
                 dir,
                 format!(
                     "harmonic {}: the displacement is not finite; nothing written",
                     h.m
                 ),
+                OutputFault::NotFinite,
             ));
         }
     }
@@ -218,10 +242,10 @@ pub struct SavedSolution {
 /// Reads a solution folder, rebuilding and checking its mesh.
 pub fn read_solution(dir: &Path) -> Result<SavedSolution, SolverError> {
     let json = dir.join("solution.json");
-    let text = std::fs::read_to_string(&json).map_err(|e| out_err(&json, e))?;
-    let header: SolutionHeader = serde_json::from_str(&text).map_err(|e| out_err(&json, e))?;
+    let text = std::fs::read_to_string(&json).map_err(|e| read_err(&json, e))?;
+    let header: SolutionHeader = serde_json::from_str(&text).map_err(|e| bad_saved(&json, e))?;
     if header.format != FORMAT || header.version != VERSION {
-        return Err(out_err(
+        return Err(bad_saved(
             &json,
             format!(
                 "not an {FORMAT} version {VERSION} header ({} {})",
@@ -234,17 +258,17 @@ pub fn read_solution(dir: &Path) -> Result<SavedSolution, SolverError> {
     validate(&mut mesh, &msh)?;
     insert_joints(&mut mesh, &header.scene.joint_specs(), &msh)?;
     if mesh.nodes.len() != header.mesh.nodes || mesh_checksum(&mesh) != header.mesh.checksum {
-        return Err(out_err(
+        return Err(bad_saved(
             &msh,
             "the mesh does not match solution.json (nodes or checksum differ)",
         ));
     }
     let bin = dir.join(&header.displacement.file);
-    let bytes = std::fs::read(&bin).map_err(|e| out_err(&bin, e))?;
+    let bytes = std::fs::read(&bin).map_err(|e| read_err(&bin, e))?;
     let n = 3 * mesh.nodes.len();
     let expected = header.harmonics.len() * 2 * n * 8;
     if bytes.len() != expected {
-        return Err(out_err(
+        return Err(bad_saved(
             &bin,
             format!(
                 "{} bytes, expected {expected} (truncated or not this solution's)",
@@ -257,7 +281,7 @@ pub fn read_solution(dir: &Path) -> Result<SavedSolution, SolverError> {
         .map(|c| f64::from_le_bytes(c.try_into().expect("8 bytes")))
         .collect();
     if values.iter().any(|v| !v.is_finite()) {
-        return Err(out_err(&bin, "contains values that are not finite"));
+        return Err(bad_saved(&bin, "contains values that are not finite"));
     }
     let harmonics = header
         .harmonics
@@ -450,8 +474,8 @@ pub fn read_joint_field(dir: &Path) -> Result<Option<JointFieldFile>, SolverErro
     if !path.is_file() {
         return Ok(None);
     }
-    let text = std::fs::read_to_string(&path).map_err(|e| out_err(&path, e))?;
+    let text = std::fs::read_to_string(&path).map_err(|e| read_err(&path, e))?;
     serde_json::from_str(&text)
         .map(Some)
-        .map_err(|e| out_err(&path, e))
+        .map_err(|e| bad_saved(&path, e))
 }
