@@ -137,6 +137,18 @@ impl BlockPreconditioner {
                 let size = group.len() * n;
                 let mut dbar = DMatrix::<f64>::zeros(size, size);
                 let mut c = vec![nalgebra::Matrix3::<f64>::zeros(); group.len() * group.len()];
+                // Phi = (a, a, b) of each member at each section.
+                let phi: Vec<Vec<[f64; 3]>> = (0..sections.len())
+                    .map(|s| {
+                        group
+                            .iter()
+                            .map(|&(h, f)| {
+                                let (a, b) = setup.phi(s, h, FAMILIES[f]);
+                                [a, a, b]
+                            })
+                            .collect()
+                    })
+                    .collect();
                 for (p, info) in setup.points.iter().enumerate() {
                     let k = setup.model.joints[info.joint].assembled;
                     let kk = [k.k_xi, k.k_eta, k.k_theta];
@@ -149,15 +161,8 @@ impl BlockPreconditioner {
                         };
                         used = true;
                         let w = sections.weight[s];
-                        let phi: Vec<[f64; 3]> = group
-                            .iter()
-                            .map(|&(h, f)| {
-                                let (a, b) = setup.phi(s, h, FAMILIES[f]);
-                                [a, a, b]
-                            })
-                            .collect();
-                        for (i, pi) in phi.iter().enumerate() {
-                            for (j, pj) in phi.iter().enumerate() {
+                        for (i, pi) in phi[s].iter().enumerate() {
+                            for (j, pj) in phi[s].iter().enumerate() {
                                 let cij = &mut c[i * group.len() + j];
                                 for r in 0..3 {
                                     for q in 0..3 {
