@@ -533,41 +533,15 @@ fn quotes(work: &Path, mesh: &Value) -> Vec<Quote> {
     ]
 }
 
-/// Decodes standard base64.
-fn base64(text: &str) -> Vec<u8> {
-    let value = |c: u8| match c {
-        b'A'..=b'Z' => c - b'A',
-        b'a'..=b'z' => c - b'a' + 26,
-        b'0'..=b'9' => c - b'0' + 52,
-        b'+' => 62,
-        b'/' => 63,
-        _ => panic!("not base64: {c}"),
-    };
-    let digits: Vec<u8> = text
-        .bytes()
-        .filter(|c| !c.is_ascii_whitespace() && *c != b'=')
-        .map(value)
-        .collect();
-    let mut out = Vec::new();
-    for chunk in digits.chunks(4) {
-        let n = chunk
-            .iter()
-            .enumerate()
-            .fold(0u32, |n, (i, d)| n | (u32::from(*d) << (18 - 6 * i)));
-        out.extend_from_slice(&n.to_be_bytes()[1..chunk.len()]);
-    }
-    out
-}
-
-/// The Int32 values of a VTU data array (inline binary, UInt64 header).
+/// The Int32 values of a VTU data array (inline binary, zlib, UInt64 header).
 fn vtu_ints(vtu: &str, name: &str) -> Vec<i32> {
     let tag = format!("Name=\"{name}\"");
     let from = vtu.find(&tag).unwrap_or_else(|| panic!("no array {name}"));
     let open = from + vtu[from..].find('>').unwrap() + 1;
     let close = open + vtu[open..].find('<').unwrap();
-    let bytes = base64(&vtu[open..close]);
-    let len = u64::from_le_bytes(bytes[..8].try_into().unwrap()) as usize;
-    bytes[8..8 + len]
+    let bytes =
+        axijoint_report::vtu::decode_array(&vtu[open..close]).unwrap_or_else(|e| panic!("array {name}: {e}"));
+    bytes
         .chunks(4)
         .map(|b| i32::from_le_bytes(b.try_into().unwrap()))
         .collect()
