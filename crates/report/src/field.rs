@@ -5,6 +5,7 @@ use axijoint_mesh::{geometry::jacobian, CellKind, Mesh};
 use axijoint_solver::driver::Displacements;
 use axijoint_solver::elements::stress_at;
 use axijoint_solver::material::Elastic;
+use axijoint_solver::scene::InitialStress;
 use rstar::{RTree, RTreeObject, AABB};
 
 /// A cell's bounding box in the R-tree.
@@ -137,6 +138,41 @@ pub struct Field<'a> {
     pub materials: &'a [Elastic],
     /// Amplitudes.
     pub u: &'a Displacements,
+    /// The initial state the stresses start from (none: zero).
+    pub initial: Option<Initial<'a>>,
+}
+
+/// The initial state of a solution: the stresses are `sigma_0` of the
+/// bodies plus those of the initial phase's displacements plus those of
+/// [`Field::u`].
+#[derive(Clone)]
+pub struct Initial<'a> {
+    /// Initial stress and unit weight of each body (`None`: no initial
+    /// stress).
+    pub stress: Vec<Option<(InitialStress, f64)>>,
+    /// The displacements of the initial phase (harmonic 0), if any.
+    pub u: Option<&'a Displacements>,
+}
+
+impl<'a> Initial<'a> {
+    /// The initial state of a saved solution (`None` without an initial
+    /// phase).
+    pub fn of(saved: &'a axijoint_solver::results::SavedSolution) -> Option<Initial<'a>> {
+        saved.header.initial.as_ref()?;
+        let scene = &saved.header.scene;
+        Some(Initial {
+            stress: saved
+                .mesh
+                .bodies
+                .iter()
+                .map(|b| {
+                    let m = scene.materials.get(&b.name)?;
+                    m.initial_stress.map(|s| (s, m.unit_weight))
+                })
+                .collect(),
+            u: saved.initial_displacements.as_ref(),
+        })
+    }
 }
 
 impl Field<'_> {
@@ -156,12 +192,40 @@ impl Field<'_> {
     /// tau_ztheta)` at reference point `xi` of `cell`, angle `theta`, from
     /// the cell's own field (never averaged with a neighbour).
     pub fn stress(&self, cell: usize, xi: [f64; 2], theta: f64) -> [f64; 6] {
+        let mut out = self.stress_of(self.u, cell, xi, theta);
+        if let Some(init) = &self.initial {
+            let c = &self.mesh.cells[cell];
+            if let Some((s0, gamma)) = init.stress[c.body] {
+                let mut n = [0.0; axijoint_mesh::shapes::MAX_CELL_NODES];
+                let nn = c.kind.n_nodes();
+                c.kind.eval_n(xi, &mut n[..nn]);
+                let z: f64 = c
+                    .nodes
+                    .iter()
+                    .zip(&n[..nn])
+                    .map(|(&k, ni)| ni * self.mesh.nodes[k][1])
+                    .sum();
+                for (o, v) in out.iter_mut().zip(s0.at(z, gamma)) {
+                    *o += v;
+                }
+            }
+            if let Some(u0) = init.u {
+                for (o, v) in out.iter_mut().zip(self.stress_of(u0, cell, xi, theta)) {
+                    *o += v;
+                }
+            }
+        }
+        out
+    }
+
+    /// The stress of the displacements `u` alone.
+    fn stress_of(&self, u: &Displacements, cell: usize, xi: [f64; 2], theta: f64) -> [f64; 6] {
         let c = &self.mesh.cells[cell];
         let coords: Vec<[f64; 2]> = c.nodes.iter().map(|&n| self.mesh.nodes[n]).collect();
         let mat = &self.materials[c.body];
         let mut ue = vec![0.0; 3 * c.nodes.len()];
         let mut out = [0.0; 6];
-        for h in &self.u.harmonics {
+        for h in &u.harmonics {
             let (sin, cos) = (f64::from(h.m) * theta).sin_cos();
             for (amp, in_plane, shear_theta) in [(&h.symmetric, cos, sin), (&h.antisymmetric, sin, -cos)] {
                 let (a, b) = if h.m == 0 {

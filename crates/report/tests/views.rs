@@ -609,6 +609,7 @@ fn bending_cylinder_vtu() {
             mesh: &mesh,
             materials: &materials,
             u: &u,
+            initial: None,
         };
         let path = dir.path().join(format!("bending_{}.vtu", kind.name()));
         write_vtu(&path, &field, n, None).unwrap();
@@ -741,6 +742,7 @@ fn non_finite_values_leave_no_file() {
         mesh: &mesh,
         materials: &materials,
         u: &u,
+        initial: None,
     };
     let vtu = dir.path().join("bad.vtu");
     let msh = dir.path().join("bad.msh");
@@ -836,6 +838,7 @@ fn scene_p_views() {
         mesh,
         materials: &model.materials,
         u: &run.linear.displacements,
+        initial: None,
     };
     let dir = tempfile::tempdir().unwrap();
 
@@ -1081,6 +1084,7 @@ fn scene_p_linear_joint_quads() {
         mesh,
         materials: &model.materials,
         u: &run.linear.displacements,
+        initial: None,
     };
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("p1.vtu");

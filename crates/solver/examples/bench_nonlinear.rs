@@ -238,6 +238,7 @@ fn iterate(
             &sections,
             &settings,
             Some(elastic),
+            None,
             |_| {},
         ),
         Some(control) => stress_transfer_stepped(
@@ -249,6 +250,7 @@ fn iterate(
             &settings,
             control,
             Some(elastic),
+            None,
             |_| {},
             |_, _, _| (),
         )

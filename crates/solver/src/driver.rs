@@ -164,7 +164,7 @@ fn linear_run(
     let setup = t0.elapsed().as_secs_f64();
     let wanted: Vec<u32> = loads
         .iter()
-        .filter(|h| all_factors || h.is_loaded())
+        .filter(|h| all_factors || h.is_loaded() || (h.m == 0 && scene.has_initial_phase()))
         .map(|h| h.m)
         .collect();
     let t1 = Instant::now();
@@ -392,6 +392,27 @@ pub fn solution_header(scene: &Scene, run: &LinearRun) -> crate::results::Soluti
         max_displacement: max_displacement(mesh.nodes.len(), &run.displacements),
         timings: run.timings.clone(),
         extra: serde_json::Value::Null,
+        initial: None,
+    }
+}
+
+/// The header's [`crate::results::InitialInfo`] of an initial phase.
+pub fn initial_info(initial: &InitialState) -> crate::results::InitialInfo {
+    let n = initial
+        .displacements
+        .harmonics
+        .first()
+        .map_or(0, |h| h.symmetric.len() / 3);
+    crate::results::InitialInfo {
+        displacement: crate::results::ArrayRef {
+            file: "initial_displacement.f64".into(),
+            dtype: "f64le".into(),
+            shape: vec![1, 2, n, 3],
+            layout: "[harmonic 0][family: symmetric, antisymmetric][node][u_r, u_z, u_theta]".into(),
+        },
+        balance: initial.balance,
+        max_displacement: initial.max_displacement,
+        iterations: initial.iterations,
     }
 }
 
@@ -421,6 +442,137 @@ pub struct Run {
     pub auto_steps: Vec<AutoStep>,
     /// The load path of a stepped run (`solver.loading` not `"one_shot"`).
     pub load_path: Option<LoadPath>,
+    /// The initial phase, if the scene has one; the displacements of the
+    /// run are relative to its end.
+    pub initial: Option<InitialState>,
+}
+
+/// The end of a scene's initial phase (docs/loading.md).
+#[derive(Clone, Debug)]
+pub struct InitialState {
+    /// Displacements of the phase (harmonic 0 only).
+    pub displacements: Displacements,
+    /// The out-of-balance of the initial stresses.
+    pub balance: crate::initial::Balance,
+    /// Largest displacement magnitude of the phase.
+    pub max_displacement: f64,
+    /// Iterations of the phase (0 without nonlinear joints).
+    pub iterations: usize,
+    /// Joint traction `(tau_xi, sigma, tau_theta)` at the end of the phase,
+    /// per joint point (axisymmetric: the same at every theta); without
+    /// nonlinear joints the initial traction (nothing iterates on it).
+    pub traction: Vec<[f64; 3]>,
+    /// Debonded joint points.
+    pub debonded: Vec<bool>,
+}
+
+impl InitialState {
+    /// The joint start state of an iteration on `n_sections` sections.
+    pub fn joint_start(&self, n_sections: usize) -> crate::iteration::JointStart {
+        crate::iteration::JointStart {
+            traction: self.traction.repeat(n_sections),
+            debonded: self.debonded.repeat(n_sections),
+        }
+    }
+}
+
+/// Solves the initial phase of `scene` on the factors of `linear` (harmonic
+/// 0 must be among them): its out-of-balance with the joint law acting on
+/// the initial tractions, along the scene's loading path.
+pub fn initial_phase(
+    scene: &Scene,
+    linear: &LinearRun,
+    progress: impl FnMut(&crate::iteration::IterationRecord),
+) -> Result<InitialState, SolverError> {
+    use crate::iteration::StepControl;
+    use crate::scene::{JointLaw, Loading};
+    let model = &linear.model;
+    let il = crate::initial::initial_load(scene, model)?;
+    let n = model.mesh.nodes.len();
+    let loads = vec![HarmonicLoads {
+        m: 0,
+        symmetric: il.load,
+        antisymmetric: vec![0.0; 3 * n],
+    }];
+    let nonlinear = scene.joints.values().any(|j| j.law != JointLaw::Linear);
+    let n_points = il.traction.len();
+    let (displacements, iterations, traction, debonded) = if !nonlinear || model.mesh.joints.is_empty() {
+        // No iteration follows: the joints keep their initial tractions.
+        let u = solve_loads(model, &linear.factors, &loads);
+        (u, 0, il.traction, vec![false; n_points])
+    } else {
+        let sections = scene_sections(scene, &linear.loads)?;
+        let start = crate::iteration::JointStart {
+            traction: il.traction.repeat(sections.len()),
+            debonded: vec![false; sections.len() * n_points],
+        };
+        let laws = joint_laws(scene, model);
+        let settings = iteration_settings(scene);
+        let failed = |e: crate::iteration::IterationError| SolverError::InitialPhase {
+            beyond_capacity: matches!(e, crate::iteration::IterationError::NoEquilibrium { .. }),
+            message: e.to_string(),
+        };
+        let outcome = match scene.solver.loading {
+            Loading::OneShot => crate::iteration::stress_transfer_from(
+                model,
+                &linear.factors,
+                &loads,
+                &laws,
+                &sections,
+                &settings,
+                None,
+                Some(&start),
+                progress,
+            )
+            .map_err(failed)?,
+            loading => {
+                let control = match loading {
+                    Loading::Steps(k) => StepControl::steps(k),
+                    _ => StepControl::AUTO,
+                };
+                let stepped = crate::iteration::stress_transfer_stepped(
+                    model,
+                    &linear.factors,
+                    &loads,
+                    &laws,
+                    &sections,
+                    &settings,
+                    control,
+                    None,
+                    Some(&start),
+                    progress,
+                    |_, _, _| (),
+                )
+                .map_err(failed)?;
+                if let Some(limit) = stepped.limit {
+                    return Err(SolverError::InitialPhase {
+                        message: format!(
+                            "the joints cannot carry the initial state: the phase reached only {:.4} of its load ({})",
+                            limit.factor, limit.reason
+                        ),
+                        beyond_capacity: limit.beyond_capacity,
+                    });
+                }
+                stepped.outcome
+            }
+        };
+        let iterations = outcome.history.len();
+        let field = outcome.field;
+        (
+            outcome.displacements,
+            iterations,
+            field.p[..n_points].to_vec(),
+            field.debonded[..n_points].to_vec(),
+        )
+    };
+    Ok(InitialState {
+        max_displacement: max_displacement(n, &displacements),
+        displacements,
+        balance: il.balance,
+        iterations,
+        traction,
+        debonded,
+    })
 }
 
 /// The converged steps of a stepped run, and where it stopped short of the
@@ -539,8 +691,10 @@ fn iterate(
     linear: &LinearRun,
     m: u32,
     sections: &crate::fourier::Sections,
+    initial: Option<&InitialState>,
     progress: impl FnMut(&crate::iteration::IterationRecord),
 ) -> Result<(crate::iteration::Outcome, Option<LoadPath>), SolverError> {
+    let start = initial.map(|i| i.joint_start(sections.len()));
     use crate::iteration::StepControl;
     use crate::scene::Loading;
     let loads: Vec<HarmonicLoads> = linear.loads.iter().filter(|h| h.m <= m).cloned().collect();
@@ -558,6 +712,7 @@ fn iterate(
                 sections,
                 &settings,
                 Some(&linear.displacements),
+                start.as_ref(),
                 progress,
             )?;
             return Ok((outcome, None));
@@ -600,6 +755,7 @@ fn iterate(
         &settings,
         control,
         Some(&linear.displacements),
+        start.as_ref(),
         progress,
         observe,
     )?;
@@ -757,20 +913,27 @@ pub fn solve_scene_with(
     use crate::scene::JointLaw;
     let nonlinear = scene.joints.values().any(|j| j.law != JointLaw::Linear);
     let mut linear = linear_run(scene, keep_msh, nonlinear, false)?;
+    let t = Instant::now();
+    let initial = if scene.has_initial_phase() {
+        Some(initial_phase(scene, &linear, &mut progress)?)
+    } else {
+        None
+    };
     if !nonlinear || linear.model.mesh.joints.is_empty() {
         linear.reactions = reactions(scene, &linear.model, &linear.loads, &linear.displacements);
+        linear.timings.solve += t.elapsed().as_secs_f64();
         return Ok(Run {
             linear,
             outcome: None,
             harmonic_check: None,
             auto_steps: Vec::new(),
             load_path: None,
+            initial,
         });
     }
     let sections = scene_sections(scene, &linear.loads)?;
     let m = scene.harmonics();
-    let t = Instant::now();
-    let (outcome, load_path) = match iterate(scene, &linear, m, &sections, &mut progress) {
+    let (outcome, load_path) = match iterate(scene, &linear, m, &sections, initial.as_ref(), &mut progress) {
         Ok(v) => v,
         Err(SolverError::Iteration(e)) => {
             if let Some(last) = e.last() {
@@ -792,27 +955,29 @@ pub fn solve_scene_with(
             note: Some("the whole load was not reached: no comparison".into()),
         })
     } else if m >= 2 {
-        Some(match iterate(scene, &linear, m / 2, &sections, |_| {}) {
-            Ok((_, path)) if path.as_ref().is_some_and(|p| p.limit.is_some()) => HarmonicCheck {
-                m,
-                m_half: m / 2,
-                face_change: None,
-                area_change: None,
-                note: Some(format!(
-                    "the run with harmonics 0..={} reached only the load factor {:.4}",
-                    m / 2,
-                    path.map_or(1.0, |p| p.reached())
-                )),
+        Some(
+            match iterate(scene, &linear, m / 2, &sections, initial.as_ref(), |_| {}) {
+                Ok((_, path)) if path.as_ref().is_some_and(|p| p.limit.is_some()) => HarmonicCheck {
+                    m,
+                    m_half: m / 2,
+                    face_change: None,
+                    area_change: None,
+                    note: Some(format!(
+                        "the run with harmonics 0..={} reached only the load factor {:.4}",
+                        m / 2,
+                        path.map_or(1.0, |p| p.reached())
+                    )),
+                },
+                Ok((half, _)) => harmonic_check(scene, &linear, (&outcome, m), (&half, m / 2)),
+                Err(e) => HarmonicCheck {
+                    m,
+                    m_half: m / 2,
+                    face_change: None,
+                    area_change: None,
+                    note: Some(format!("the run with harmonics 0..={} failed: {e}", m / 2)),
+                },
             },
-            Ok((half, _)) => harmonic_check(scene, &linear, (&outcome, m), (&half, m / 2)),
-            Err(e) => HarmonicCheck {
-                m,
-                m_half: m / 2,
-                face_change: None,
-                area_change: None,
-                note: Some(format!("the run with harmonics 0..={} failed: {e}", m / 2)),
-            },
-        })
+        )
     } else {
         None
     };
@@ -831,6 +996,7 @@ pub fn solve_scene_with(
         harmonic_check,
         auto_steps: Vec::new(),
         load_path,
+        initial,
     })
 }
 
@@ -873,9 +1039,14 @@ pub fn solve_scene_auto(
     let mut steps: Vec<AutoStep> = Vec::new();
     let mut previous: Option<Vec<f64>> = None;
     let t = Instant::now();
+    let initial = if sc.has_initial_phase() {
+        Some(initial_phase(&sc, &linear, &mut progress)?)
+    } else {
+        None
+    };
     loop {
         let sections = scene_sections(&sc, &linear.loads)?;
-        let (outcome, load_path) = iterate(&sc, &linear, m, &sections, &mut progress)?;
+        let (outcome, load_path) = iterate(&sc, &linear, m, &sections, initial.as_ref(), &mut progress)?;
         let values = measure(&linear.model, &outcome.displacements);
         let change = previous.as_ref().map(|p| {
             let scale = values
@@ -914,6 +1085,7 @@ pub fn solve_scene_auto(
                     harmonic_check: None,
                     auto_steps: steps,
                     load_path,
+                    initial,
                 },
             ));
         }

@@ -20,6 +20,16 @@ pub enum SolverError {
     /// The nonlinear iteration found no solution.
     #[error(transparent)]
     Iteration(#[from] crate::iteration::IterationError),
+    /// The initial phase (initial stresses and self-weight) found no
+    /// equilibrium.
+    #[error("initial phase: {message}")]
+    InitialPhase {
+        /// What happened.
+        message: String,
+        /// The joints cannot carry the initial state (not a numerical
+        /// failure).
+        beyond_capacity: bool,
+    },
     /// A result file could not be written or read.
     #[error("{path}: {message}")]
     Output {

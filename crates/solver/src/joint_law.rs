@@ -69,7 +69,12 @@ pub fn admissible(
     d: [f64; 3],
     broken: &mut bool,
 ) -> ([f64; 3], JointState) {
-    let p = k.traction(d);
+    admissible_trial(law, k.traction(d), broken)
+}
+
+/// [`admissible`] at the trial traction `p` (e.g. `t_0 + k d` from an
+/// initial traction `t_0`).
+pub fn admissible_trial(law: &JointLaw, p: [f64; 3], broken: &mut bool) -> ([f64; 3], JointState) {
     let mc = match law {
         JointLaw::Linear => return (p, JointState::Stick),
         JointLaw::MohrCoulomb(mc) => mc,
@@ -135,7 +140,8 @@ pub fn effective_law(law: &JointLaw, h: &PointHistory) -> JointLaw {
 }
 
 /// The trial traction relative to the plastic slip of `h`:
-/// `(k_xi (d_xi - s_xi), k_eta d_eta, k_theta (d_theta - s_theta))`.
+/// `(k_xi (d_xi - s_xi), k_eta d_eta, k_theta (d_theta - s_theta))` (add
+/// the initial traction, if any).
 pub fn relative_trial(k: &JointSprings, d: [f64; 3], h: &PointHistory) -> [f64; 3] {
     k.traction([d[0] - h.slip[0], d[1], d[2] - h.slip[1]])
 }
@@ -150,9 +156,14 @@ pub fn admissible_history(
     d: [f64; 3],
     h: &PointHistory,
 ) -> ([f64; 3], JointState) {
-    let t = relative_trial(k, d, h);
+    admissible_history_trial(law, relative_trial(k, d, h), h)
+}
+
+/// [`admissible_history`] at the trial traction `t` (the
+/// [`relative_trial`] plus any initial traction).
+pub fn admissible_history_trial(law: &JointLaw, t: [f64; 3], h: &PointHistory) -> ([f64; 3], JointState) {
     let mc = match effective_law(law, h) {
-        JointLaw::Linear => return (k.traction(d), JointState::Stick),
+        JointLaw::Linear => return (t, JointState::Stick),
         JointLaw::MohrCoulomb(mc) => mc,
     };
     if h.debonded && t[1] > 0.0 {
@@ -161,23 +172,42 @@ pub fn admissible_history(
     shear_return(&mc, t)
 }
 
-/// Whether an intact pair at relative displacement `d` carries a normal
-/// stress above its tensile strength (it debonds at the end of the step).
-pub fn exceeds_tensile_strength(law: &JointLaw, k: &JointSprings, d: [f64; 3], h: &PointHistory) -> bool {
+/// Whether an intact pair at the trial normal stress `sigma` (`t_0 + k_eta
+/// d_eta`) lies above its tensile strength (it debonds at the end of the
+/// step).
+pub fn exceeds_tensile_strength(law: &JointLaw, sigma: f64, h: &PointHistory) -> bool {
     match law {
-        JointLaw::MohrCoulomb(mc) => !h.debonded && k.k_eta * d[1] > mc.tensile_strength,
+        JointLaw::MohrCoulomb(mc) => !h.debonded && sigma > mc.tensile_strength,
         JointLaw::Linear => false,
     }
 }
 
-/// Commits a converged step: the plastic slip `s = d_s - p_s / k_s` of a
-/// slipping pair, `s = d_s` of an open one (it carries no shear); a
-/// sticking pair keeps its slip.
-pub fn commit(k: &JointSprings, d: [f64; 3], p: [f64; 3], state: JointState, h: &mut PointHistory) {
+/// Commits a converged step from the initial traction `t0`: the plastic
+/// slip `s = d_s - (p_s - t0_s) / k_s` of a slipping pair, `s = d_s +
+/// t0_s / k_s` of an open one (it carries no shear); a sticking pair keeps
+/// its slip. A zero spring keeps its slip (its traction never changes).
+pub fn commit(
+    k: &JointSprings,
+    d: [f64; 3],
+    t0: [f64; 3],
+    p: [f64; 3],
+    state: JointState,
+    h: &mut PointHistory,
+) {
+    let slip = |d: f64, t0: f64, p: f64, k: f64, old: f64| if k > 0.0 { d - (p - t0) / k } else { old };
     match state {
         JointState::Stick => {}
-        JointState::Slip => h.slip = [d[0] - p[0] / k.k_xi, d[2] - p[2] / k.k_theta],
-        JointState::Open => h.slip = [d[0], d[2]],
+        JointState::Slip | JointState::Open => {
+            let (p0, p2) = if state == JointState::Open {
+                (0.0, 0.0)
+            } else {
+                (p[0], p[2])
+            };
+            h.slip = [
+                slip(d[0], t0[0], p0, k.k_xi, h.slip[0]),
+                slip(d[2], t0[2], p2, k.k_theta, h.slip[1]),
+            ];
+        }
     }
 }
 
@@ -292,8 +322,8 @@ mod tests {
         let h = PointHistory::default();
         let (p, s) = admissible_history(&l, &K, [0.01, 0.01, 0.0], &h);
         assert_eq!((p, s), ([0.1, 0.2, 0.0], JointState::Stick));
-        assert!(exceeds_tensile_strength(&l, &K, [0.0, 0.01, 0.0], &h));
-        assert!(!exceeds_tensile_strength(&l, &K, [0.0, 0.004, 0.0], &h));
+        assert!(exceeds_tensile_strength(&l, K.k_eta * 0.01, &h));
+        assert!(!exceeds_tensile_strength(&l, K.k_eta * 0.004, &h));
     }
 
     #[test]
@@ -312,7 +342,7 @@ mod tests {
         let (p, s) = admissible_history(&l, &K, [0.3, -0.05, 0.0], &h);
         assert_eq!(s, JointState::Slip);
         assert!((p[0] - 30f64.to_radians().tan()).abs() < 1e-14);
-        assert!(!exceeds_tensile_strength(&l, &K, [0.0, 1.0, 0.0], &h));
+        assert!(!exceeds_tensile_strength(&l, K.k_eta, &h));
     }
 
     #[test]
@@ -323,7 +353,7 @@ mod tests {
         let d = [0.3, -0.01, 0.0];
         let (p, s) = admissible_history(&l, &K, d, &h);
         assert_eq!((p[0], s), (0.5, JointState::Slip));
-        commit(&K, d, p, s, &mut h);
+        commit(&K, d, [0.0; 3], p, s, &mut h);
         assert!((h.slip[0] - 0.25).abs() < 1e-15);
         // Unloading to d_xi = 0.2 sticks at tau = 10 (0.2 - 0.25) = -0.5 ...
         let (p, s) = admissible_history(&l, &K, [0.2, -0.01, 0.0], &h);
@@ -333,8 +363,45 @@ mod tests {
         let (p, s) = admissible_history(&l, &K, [0.1, -0.01, 0.0], &h);
         assert_eq!((p[0], s), (-0.5, JointState::Slip));
         // An open pair carries no shear: its slip follows d.
-        commit(&K, [0.7, 0.1, 0.2], [0.0; 3], JointState::Open, &mut h);
+        commit(&K, [0.7, 0.1, 0.2], [0.0; 3], [0.0; 3], JointState::Open, &mut h);
         assert_eq!(h.slip, [0.7, 0.2]);
+    }
+
+    #[test]
+    fn initial_compression_gives_friction_and_slip_is_measured_from_it() {
+        // t0 = (0, -1, 0), C = 0, phi = 30: tau_y = tan 30 = 0.577 from the
+        // start; k_xi = 10 sticks up to d_xi = 0.0577.
+        let l = law(0.0, 30.0, 0.0, ShearCheck::Resultant);
+        let t0 = [0.0, -1.0, 0.0];
+        let mut h = PointHistory::default();
+        let tau_y = 30f64.to_radians().tan();
+        let trial = |d: [f64; 3], h: &PointHistory| {
+            let t = relative_trial(&K, d, h);
+            [t[0] + t0[0], t[1] + t0[1], t[2] + t0[2]]
+        };
+        let (p, s) = admissible_history_trial(&l, trial([0.05, 0.0, 0.0], &h), &h);
+        assert_eq!((p, s), ([0.5, -1.0, 0.0], JointState::Stick));
+        let d = [0.1, 0.0, 0.0];
+        let (p, s) = admissible_history_trial(&l, trial(d, &h), &h);
+        assert_eq!(s, JointState::Slip);
+        assert!((p[0] - tau_y).abs() < 1e-14);
+        commit(&K, d, t0, p, s, &mut h);
+        // The traction after commit at the same d is the admissible one.
+        let t = trial(d, &h);
+        assert!((t[0] - tau_y).abs() < 1e-14 && t[1] == -1.0, "{t:?}");
+        // Opening (sigma = -1 + 20 d_eta > 0) releases everything; its slip
+        // leaves no shear when it closes at the same d.
+        let d = [0.2, 0.06, 0.0];
+        // Intact: the tension is kept within the step (no shear strength).
+        let (p, s) = admissible_history_trial(&l, trial(d, &h), &h);
+        assert_eq!((p[0], s), (0.0, JointState::Slip));
+        assert!((p[1] - 0.2).abs() < 1e-14);
+        assert!(exceeds_tensile_strength(&l, trial(d, &h)[1], &h));
+        h.debonded = true;
+        let (p2, s2) = admissible_history_trial(&l, trial(d, &h), &h);
+        assert_eq!((p2, s2), ([0.0; 3], JointState::Open));
+        commit(&K, d, t0, p2, s2, &mut h);
+        assert_eq!(trial(d, &h)[0], 0.0);
     }
 
     #[test]

@@ -30,6 +30,7 @@ pub mod elements;
 pub mod error;
 mod factor;
 pub mod fourier;
+pub mod initial;
 pub mod iteration;
 pub mod joint_law;
 pub mod linear;

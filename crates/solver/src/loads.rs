@@ -369,14 +369,30 @@ pub fn assemble_loads(scene: &Scene, mesh: &Mesh, m_max: u32) -> Result<Vec<Harm
             }
         }
     }
-    add_body_forces(scene, mesh, &mut out)?;
+    add_body_forces(scene, mesh, !scene.has_initial_phase(), &mut out)?;
     Ok(out)
 }
 
-/// The self-weight (`-gamma` in z, harmonic 0) and the seismic body force
-/// (`k_h gamma` in +x: harmonic 1, symmetric `(b_r, b_theta) = (k_h gamma,
-/// -k_h gamma)`) of every cell whose material has a unit weight.
-fn add_body_forces(scene: &Scene, mesh: &Mesh, out: &mut [HarmonicLoads]) -> Result<(), SceneError> {
+/// The self-weight of every material as harmonic-0 nodal forces (`3 n`,
+/// node-major): the load of the initial phase.
+pub fn gravity_load(scene: &Scene, mesh: &Mesh) -> Result<Vec<f64>, SceneError> {
+    let mut out = vec![HarmonicLoads::zeros(0, mesh.nodes.len())];
+    let mut only = scene.clone();
+    only.seismic_coefficient = 0.0;
+    add_body_forces(&only, mesh, true, &mut out)?;
+    Ok(out.swap_remove(0).symmetric)
+}
+
+/// The self-weight (`-gamma` in z, harmonic 0; only if `gravity`) and the
+/// seismic body force (`k_h gamma` in +x: harmonic 1, symmetric `(b_r,
+/// b_theta) = (k_h gamma, -k_h gamma)`) of every cell whose material has a
+/// unit weight.
+fn add_body_forces(
+    scene: &Scene,
+    mesh: &Mesh,
+    gravity: bool,
+    out: &mut [HarmonicLoads],
+) -> Result<(), SceneError> {
     let invalid = |key: String, message: String| SceneError::Invalid {
         path: scene.path.clone(),
         key,
@@ -423,7 +439,7 @@ fn add_body_forces(scene: &Scene, mesh: &Mesh, out: &mut [HarmonicLoads]) -> Res
             (0usize, [0.0, -gamma, 0.0]),
             (1, [k_h * gamma, 0.0, -k_h * gamma]),
         ] {
-            if m == 1 && k_h == 0.0 {
+            if (m == 1 && k_h == 0.0) || (m == 0 && !gravity) {
                 continue;
             }
             let fe = &mut fe[..3 * nn];

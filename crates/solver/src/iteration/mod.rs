@@ -154,6 +154,18 @@ pub struct JointField {
     pub p: Vec<[f64; 3]>,
     /// State.
     pub state: Vec<JointState>,
+    /// Debonded (no cohesion, no tensile strength left).
+    pub debonded: Vec<bool>,
+}
+
+/// The joint state an iteration starts from (the end of an initial phase),
+/// per (section, point) pair, index `s * n_points + p`.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct JointStart {
+    /// Traction `(tau_xi, sigma, tau_theta)` carried at zero displacement.
+    pub traction: Vec<[f64; 3]>,
+    /// Debonded pairs.
+    pub debonded: Vec<bool>,
 }
 
 /// A converged nonlinear solution.
@@ -337,11 +349,14 @@ pub fn stress_transfer(
     settings: &IterationSettings,
     progress: impl FnMut(&IterationRecord),
 ) -> Result<Outcome, IterationError> {
-    stress_transfer_from(model, factors, loads, laws, sections, settings, None, progress)
+    stress_transfer_from(
+        model, factors, loads, laws, sections, settings, None, None, progress,
+    )
 }
 
 /// [`stress_transfer`] given the elastic solution `K^-1 F` of (some of) the
-/// harmonics of `loads`, which then cost no solve.
+/// harmonics of `loads`, which then cost no solve, and the joints' `start`
+/// state (none: unstressed and intact).
 #[allow(clippy::too_many_arguments)]
 pub fn stress_transfer_from(
     model: &Model,
@@ -351,9 +366,10 @@ pub fn stress_transfer_from(
     sections: &Sections,
     settings: &IterationSettings,
     elastic: Option<&Displacements>,
+    start: Option<&JointStart>,
     mut progress: impl FnMut(&IterationRecord),
 ) -> Result<Outcome, IterationError> {
-    let mut setup = Setup::new(model, factors, loads, laws, sections, elastic)?;
+    let mut setup = Setup::new(model, factors, loads, laws, sections, elastic, start)?;
     let mut start = Start::zero(&setup);
     if setup.softened() {
         start.psi_ref = Some(setup.reference_release());

@@ -3,9 +3,7 @@
 
 use super::setup::Setup;
 use crate::elements::{add_traction_forces, relative_displacement, JointSprings};
-use crate::joint_law::{
-    admissible, admissible_history, effective_law, relative_trial, JointState, PointHistory,
-};
+use crate::joint_law::{admissible_history_trial, admissible_trial, effective_law, JointState, PointHistory};
 use crate::scene::{JointLaw, ShearCheck};
 use rayon::prelude::*;
 
@@ -146,6 +144,7 @@ impl Setup<'_> {
     fn release(
         &self,
         u_s: &[f64],
+        t0: Option<&[[f64; 3]]>,
         history: Option<&[PointHistory]>,
         broken: &mut [bool],
         g: &mut [f64],
@@ -157,20 +156,22 @@ impl Setup<'_> {
         let mut fe = [0.0; 18];
         for (i, info) in self.points.iter().enumerate() {
             let joint = &self.model.joints[info.joint];
-            let springs = joint.springs;
             let d = self.relative(i, u_s);
             let law = &self.laws[info.joint];
-            let d_law = self.law_displacement(info.joint, d);
-            let (p, state) = match history {
-                Some(h) => admissible_history(law, &springs, d_law, &h[i]),
-                None => admissible(law, &springs, d_law, &mut broken[i]),
+            let t0 = t0.map_or([0.0; 3], |t| t[i]);
+            let h = history.map(|h| &h[i]);
+            let t = self.trial(info.joint, d, h, t0);
+            let (p, state) = match h {
+                Some(h) => admissible_history_trial(law, t, h),
+                None => admissible_trial(law, t, &mut broken[i]),
             };
-            // Released: what K_m's spring carries minus what the law allows.
+            // Released: what K_m's spring and the initial traction carry
+            // minus what the law allows.
             let trial = joint.assembled.traction(d);
             let excess = if self.reference_law {
                 trial
             } else {
-                [trial[0] - p[0], trial[1] - p[1], trial[2] - p[2]]
+                [0, 1, 2].map(|c| trial[c] + t0[c] - p[c])
             };
             self.scatter(i, excess, &mut fe, g);
             d_out[i] = d;
@@ -201,7 +202,8 @@ impl Setup<'_> {
             .enumerate()
             .for_each(|(s, ((((gs, bs), ds), ps), sts))| {
                 let history = self.history.as_ref().and_then(|h| h.get(s * n_p..(s + 1) * n_p));
-                self.release(&u_s[s * m..(s + 1) * m], history, bs, gs, ds, ps, sts)
+                let t0 = self.start.traction.get(s * n_p..(s + 1) * n_p);
+                self.release(&u_s[s * m..(s + 1) * m], t0, history, bs, gs, ds, ps, sts)
             });
     }
 
@@ -214,13 +216,11 @@ impl Setup<'_> {
                 let joint = &self.model.joints[info.joint];
                 let springs = joint.springs;
                 let law = &self.laws[info.joint];
-                let law_tangent = match self.history.as_ref().and_then(|h| h.get(k)) {
-                    Some(h) => release_tangent(
-                        &effective_law(law, h),
-                        relative_trial(&springs, ev.d[k], h),
-                        ev.state[k],
-                    ),
-                    None => release_tangent(law, springs.traction(ev.d[k]), ev.state[k]),
+                let h = self.history.as_ref().and_then(|h| h.get(k));
+                let trial = self.trial(info.joint, ev.d[k], h, self.t0(k));
+                let law_tangent = match h {
+                    Some(h) => release_tangent(&effective_law(law, h), trial, ev.state[k]),
+                    None => release_tangent(law, trial, ev.state[k]),
                 };
                 *t = reference_tangent(law_tangent, &springs, &joint.assembled);
             }
@@ -252,6 +252,7 @@ impl Setup<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::joint_law::admissible;
     use crate::scene::MohrCoulomb;
 
     fn law(c: f64, phi: f64, check: ShearCheck) -> JointLaw {

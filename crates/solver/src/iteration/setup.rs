@@ -5,10 +5,10 @@
 //! diagnostics.
 
 use super::release::Eval;
-use super::{Converged, IterationError, IterationRecord, JointField, Outcome, PointInfo};
+use super::{Converged, IterationError, IterationRecord, JointField, JointStart, Outcome, PointInfo};
 use crate::elements::{joint_points, JointSprings};
 use crate::fourier::{Family, Sections};
-use crate::joint_law::{state_counts, JointState, PointHistory};
+use crate::joint_law::{relative_trial, state_counts, JointState, PointHistory};
 use crate::linear::{HarmonicFactor, Model};
 use crate::loads::HarmonicLoads;
 use crate::scene::JointLaw;
@@ -52,6 +52,9 @@ pub(super) struct Setup<'a> {
     /// synthesis of a pure shear leave a normal stress of round-off size,
     /// which must not open or debond a joint whose tensile strength is 0.
     pub(super) tension_tol: f64,
+    /// The traction of every pair at zero displacement (the end of an
+    /// initial phase; empty: none) and its debonded pairs.
+    pub(super) start: JointStart,
 }
 
 impl<'a> Setup<'a> {
@@ -63,6 +66,7 @@ impl<'a> Setup<'a> {
         laws: &'a [JointLaw],
         sections: &'a Sections,
         elastic: Option<&Displacements>,
+        start: Option<&JointStart>,
     ) -> Result<Self, IterationError> {
         let mesh = &model.mesh;
         let n = mesh.nodes.len();
@@ -192,8 +196,26 @@ impl<'a> Setup<'a> {
             history: None,
             reference_law: false,
             tension_tol: 0.0,
+            start: JointStart::default(),
         };
-        setup.tension_tol = 1e-10 * setup.elastic_traction_max();
+        if let Some(start) = start {
+            let n = setup.n_pairs();
+            if start.traction.len() != n || start.debonded.len() != n {
+                return Err(IterationError::Setup(format!(
+                    "the joint start state has {} tractions and {} debonded flags for {n} (section, point) pairs",
+                    start.traction.len(),
+                    start.debonded.len()
+                )));
+            }
+            setup.start = start.clone();
+        }
+        let t0_max = setup
+            .start
+            .traction
+            .iter()
+            .map(|t| t[0].hypot(t[1]).hypot(t[2]))
+            .fold(0.0f64, f64::max);
+        setup.tension_tol = 1e-10 * setup.elastic_traction_max().max(t0_max);
         Ok(setup)
     }
 
@@ -221,15 +243,31 @@ impl<'a> Setup<'a> {
             .fold(0.0f64, f64::max)
     }
 
-    /// `d` with its normal part zeroed where `|k_eta d_eta|` is within
-    /// [`Setup::tension_tol`] (what the law sees).
-    pub(super) fn law_displacement(&self, joint: usize, d: [f64; 3]) -> [f64; 3] {
-        let k_eta = self.model.joints[joint].springs.k_eta;
-        if (k_eta * d[1]).abs() <= self.tension_tol {
-            [d[0], 0.0, d[2]]
-        } else {
-            d
+    /// The initial traction of pair `k` (index `s * n_points + p`).
+    pub(super) fn t0(&self, k: usize) -> [f64; 3] {
+        self.start.traction.get(k).copied().unwrap_or([0.0; 3])
+    }
+
+    /// The trial traction the law sees at relative displacement `d` of a
+    /// point of `joint`: `t0 + k (d - slip)` (the slip of the history `h`),
+    /// its normal part zeroed where within [`Setup::tension_tol`] of 0.
+    pub(super) fn trial(
+        &self,
+        joint: usize,
+        d: [f64; 3],
+        h: Option<&PointHistory>,
+        t0: [f64; 3],
+    ) -> [f64; 3] {
+        let k = &self.model.joints[joint].springs;
+        let kd = match h {
+            Some(h) => relative_trial(k, d, h),
+            None => k.traction(d),
+        };
+        let mut t = [t0[0] + kd[0], t0[1] + kd[1], t0[2] + kd[2]];
+        if t[1].abs() <= self.tension_tol {
+            t[1] = 0.0;
         }
+        t
     }
 
     /// Length of a section-force vector x: sections x joint nodes x 3.
@@ -262,7 +300,11 @@ impl<'a> Setup<'a> {
             d: vec![[0.0; 3]; np],
             p: vec![[0.0; 3]; np],
             state: vec![JointState::Stick; np],
-            broken: vec![false; np],
+            broken: if self.start.debonded.is_empty() {
+                vec![false; np]
+            } else {
+                self.start.debonded.clone()
+            },
         }
     }
 
@@ -505,6 +547,10 @@ impl<'a> Setup<'a> {
             d: ev.d.clone(),
             p: ev.p.clone(),
             state: ev.state.clone(),
+            debonded: match &self.history {
+                Some(h) => h.iter().map(|h| h.debonded).collect(),
+                None => ev.broken.clone(),
+            },
         }
     }
 
@@ -564,7 +610,7 @@ impl<'a> FixedPoint<'a> {
         sections: &'a Sections,
     ) -> Result<Self, IterationError> {
         Ok(FixedPoint {
-            setup: Setup::new(model, factors, loads, laws, sections, None)?,
+            setup: Setup::new(model, factors, loads, laws, sections, None, None)?,
         })
     }
 

@@ -135,17 +135,23 @@ pub fn stress_transfer_stepped<T>(
     settings: &IterationSettings,
     control: StepControl,
     elastic: Option<&Displacements>,
+    start: Option<&super::JointStart>,
     mut progress: impl FnMut(&IterationRecord),
     mut observe: impl FnMut(f64, &Displacements, &super::JointField) -> T,
 ) -> Result<Stepped<T>, IterationError> {
-    let mut setup = Setup::new(model, factors, loads, laws, sections, elastic)?;
+    let mut setup = Setup::new(model, factors, loads, laws, sections, elastic, start)?;
     let n_pairs = setup.n_pairs();
     let nx = setup.len();
 
     // The reference Psi_0: the paper-law release of the elastic solution.
     let psi_ref = setup.reference_release();
 
-    let mut committed = vec![PointHistory::default(); n_pairs];
+    let mut committed: Vec<PointHistory> = (0..n_pairs)
+        .map(|k| PointHistory {
+            debonded: setup.start.debonded.get(k).copied().unwrap_or(false),
+            ..PointHistory::default()
+        })
+        .collect();
     let mut x_c = vec![0.0; nx];
     let mut lam_c = 0.0f64;
     let mut last: Option<(Converged, Displacements)> = None;
@@ -168,7 +174,14 @@ pub fn stress_transfer_stepped<T>(
                 let mut hist = setup.history.take().unwrap_or_default();
                 for (i, h) in hist.iter_mut().enumerate() {
                     let springs = setup.springs(i);
-                    commit(&springs, conv.ev.d[i], conv.ev.p[i], conv.ev.state[i], h);
+                    commit(
+                        &springs,
+                        conv.ev.d[i],
+                        setup.t0(i),
+                        conv.ev.p[i],
+                        conv.ev.state[i],
+                        h,
+                    );
                 }
                 committed = hist;
                 lam_c = target;
@@ -282,9 +295,8 @@ fn solve_step(
             (0..hist.len())
                 .filter(|&i| {
                     let info = &setup.points[i % n_p];
-                    let springs = setup.model.joints[info.joint].springs;
-                    let d = setup.law_displacement(info.joint, conv.ev.d[i]);
-                    exceeds_tensile_strength(&setup.laws[info.joint], &springs, d, &hist[i])
+                    let t = setup.trial(info.joint, conv.ev.d[i], Some(&hist[i]), setup.t0(i));
+                    exceeds_tensile_strength(&setup.laws[info.joint], t[1], &hist[i])
                 })
                 .collect()
         });

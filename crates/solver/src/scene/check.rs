@@ -68,6 +68,9 @@ impl Scene {
                 };
                 return Err(self.invalid(format!("materials.{name}.{field}"), e.to_string()));
             }
+            if let Some(init) = &mat.initial_stress {
+                self.check_initial_stress(name, init)?;
+            }
         }
         for (name, joint) in &self.joints {
             self.check_joint(name, joint)?;
@@ -156,8 +159,50 @@ impl Scene {
         }
     }
 
+    fn check_initial_stress(&self, name: &str, init: &super::InitialStress) -> Result<(), SceneError> {
+        let key = |k: &str| format!("materials.{name}.initial_stress.{k}");
+        match *init {
+            super::InitialStress::Geostatic {
+                surface_z,
+                k0,
+                surcharge,
+            } => {
+                self.finite(&key("surface_z"), &[surface_z])?;
+                if !(k0.is_finite() && k0 >= 0.0) {
+                    return Err(self.invalid(key("K0"), format!("{k0} is not allowed: K0 >= 0")));
+                }
+                if !(surcharge.is_finite() && surcharge >= 0.0) {
+                    return Err(self.invalid(
+                        key("surcharge"),
+                        format!("{surcharge} is not allowed: a surface pressure >= 0"),
+                    ));
+                }
+                Ok(())
+            }
+            super::InitialStress::Constant {
+                sigma_r,
+                sigma_z,
+                sigma_theta,
+                tau_rz,
+            } => self.finite(
+                &format!("materials.{name}.initial_stress"),
+                &[sigma_r, sigma_z, sigma_theta, tau_rz],
+            ),
+            super::InitialStress::Gravity => Ok(()),
+        }
+    }
+
     fn check_joint(&self, name: &str, joint: &super::JointConfig) -> Result<(), SceneError> {
         let key = |k: &str| format!("joints.{name}.{k}");
+        if let Some(t) = &joint.initial_traction {
+            self.finite(&key("initial_traction"), t)?;
+            if !self.has_initial_phase() {
+                return Err(self.invalid(
+                    key("initial_traction"),
+                    "needs an initial phase: give some material an `initial_stress` (e.g. {\"type\": \"gravity\"})",
+                ));
+            }
+        }
         if let Err(crate::elements::JointError::Stiffness { name: k, value }) = joint.springs().validate() {
             return Err(self.invalid(
                 key(k),

@@ -29,6 +29,11 @@ pub struct JointConfig {
     /// default 2 on linear and 3 on quadratic joints.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub points: Option<usize>,
+    /// Initial traction `(tau_xi, sigma, tau_theta)` (stress, tension
+    /// positive) along the whole joint; by default that of the initial
+    /// stress of the bodies it separates.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub initial_traction: Option<[f64; 3]>,
 }
 
 impl JointConfig {

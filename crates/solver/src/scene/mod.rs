@@ -37,7 +37,8 @@ pub use error::SceneError;
 pub use joint::{JointConfig, JointLaw, MohrCoulomb, RuleKind, ShearCheck};
 pub use load::{Family, Linear, Load, PointLoad, ResultantLoad, RingLoad, TractionLoad};
 pub use settings::{
-    Cut, Fix, Loading, Material, MeshSource, Outputs, Sections, SolverMethod, SolverSettings, Support, Units,
+    Cut, Fix, InitialStress, Loading, Material, MeshSource, Outputs, Sections, SolverMethod, SolverSettings,
+    Support, Units,
 };
 
 use axijoint_mesh::JointSpec;
@@ -220,6 +221,12 @@ impl Scene {
                 .unwrap_or(0)
                 .max(4),
         }
+    }
+
+    /// Whether the scene starts with an initial phase: some material has an
+    /// `initial_stress`.
+    pub fn has_initial_phase(&self) -> bool {
+        self.materials.values().any(|m| m.initial_stress.is_some())
     }
 
     /// The joints as the mesh crate inserts them.

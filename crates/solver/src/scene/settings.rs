@@ -94,10 +94,81 @@ pub struct Material {
     /// Poisson's ratio, -1 < nu < 0.5.
     pub nu: f64,
     /// Unit weight gamma (force / length^3, >= 0): the self-weight, a body
-    /// force `-gamma` in z, a load like the others (scaled by the load
-    /// factor of a stepped run).
+    /// force `-gamma` in z. Without an initial phase (no material has an
+    /// `initial_stress`) it is a load like the others (scaled by the load
+    /// factor of a stepped run); with one it loads the initial phase.
     #[serde(default, skip_serializing_if = "is_zero")]
     pub unit_weight: f64,
+    /// The stress the material starts from; any material with one gives the
+    /// scene an initial phase (docs/loading.md).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub initial_stress: Option<InitialStress>,
+}
+
+/// The stress a material starts from, axisymmetric (harmonic 0), tension
+/// positive, in the components `(sigma_r, sigma_z, sigma_theta, tau_rz)`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum InitialStress {
+    /// At-rest soil: below the surface `sigma_z = -q - gamma (z_s - z)`
+    /// (gamma the material's `unit_weight`, q the `surcharge`: the vertical
+    /// stress at `z = z_s`, e.g. the weight of layers above), above it
+    /// `sigma_z = -q`; `sigma_r = sigma_theta = K0 sigma_z`, `tau_rz = 0`.
+    Geostatic {
+        /// Ground surface z_s (length).
+        surface_z: f64,
+        /// Earth pressure coefficient at rest K0 >= 0.
+        #[serde(rename = "K0")]
+        k0: f64,
+        /// Vertical pressure q >= 0 at the surface (stress), default 0.
+        #[serde(default, skip_serializing_if = "is_zero")]
+        surcharge: f64,
+    },
+    /// The same stress everywhere in the material.
+    Constant {
+        /// sigma_r.
+        sigma_r: f64,
+        /// sigma_z.
+        sigma_z: f64,
+        /// sigma_theta.
+        sigma_theta: f64,
+        /// tau_rz, default 0.
+        #[serde(default, skip_serializing_if = "is_zero")]
+        tau_rz: f64,
+    },
+    /// No initial stress: the initial phase carries the material's weight
+    /// (gravity loading).
+    Gravity,
+}
+
+impl InitialStress {
+    /// `(sigma_r, sigma_z, sigma_theta, tau_rz, tau_rtheta, tau_ztheta)` at
+    /// height z, for a material of unit weight `gamma`.
+    pub fn at(&self, z: f64, gamma: f64) -> [f64; 6] {
+        match *self {
+            InitialStress::Geostatic {
+                surface_z,
+                k0,
+                surcharge,
+            } => {
+                let sz = -surcharge - gamma * (surface_z - z).max(0.0);
+                [k0 * sz, sz, k0 * sz, 0.0, 0.0, 0.0]
+            }
+            InitialStress::Constant {
+                sigma_r,
+                sigma_z,
+                sigma_theta,
+                tau_rz,
+            } => [sigma_r, sigma_z, sigma_theta, tau_rz, 0.0, 0.0],
+            InitialStress::Gravity => [0.0; 6],
+        }
+    }
+
+    /// Whether the joints next to this material take their initial
+    /// traction from it (every type but `gravity`).
+    pub fn gives_traction(&self) -> bool {
+        !matches!(self, InitialStress::Gravity)
+    }
 }
 
 pub(crate) fn is_zero(v: &f64) -> bool {
