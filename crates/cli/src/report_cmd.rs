@@ -2,7 +2,7 @@
 
 use anyhow::Result;
 use axijoint_report::write_report;
-use axijoint_solver::results::{read_joint_field, read_solution};
+use axijoint_solver::results::{read_joint_field, read_solution, SOLVED_MESH};
 use clap::Args;
 use serde_json::json;
 use std::path::{Path, PathBuf};
@@ -50,6 +50,9 @@ pub fn report(dir: &Path, compare: &[PathBuf]) -> Result<()> {
     let mut files: Vec<String> = ["solution.json", "displacement.f64", "mesh.msh"]
         .map(String::from)
         .to_vec();
+    if dir.join(SOLVED_MESH).is_file() {
+        files.push(SOLVED_MESH.into());
+    }
     if joints.is_some() {
         files.push("joints.json".into());
     }

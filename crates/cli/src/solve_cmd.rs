@@ -203,7 +203,14 @@ pub fn solve_to(scene: &Scene, out: &Path, quiet: bool) -> Result<SolutionHeader
         let springs: Vec<_> = run.linear.model.joints.iter().map(|j| j.springs).collect();
         JointFieldFile::new(&run.linear.model.mesh, &springs, &o.field)
     });
-    write_solution(out, &header, &run.linear.displacements, &msh, joints.as_ref())?;
+    write_solution(
+        out,
+        &header,
+        &run.linear.displacements,
+        &msh,
+        &run.linear.model.mesh,
+        joints.as_ref(),
+    )?;
     Ok(header)
 }
 
@@ -232,7 +239,14 @@ fn write_last_iterate(
     });
     let springs: Vec<_> = linear.model.joints.iter().map(|j| j.springs).collect();
     let joints = JointFieldFile::new(&linear.model.mesh, &springs, &last.field);
-    write_solution(out, &header, &linear.displacements, msh, Some(&joints))?;
+    write_solution(
+        out,
+        &header,
+        &linear.displacements,
+        msh,
+        &linear.model.mesh,
+        Some(&joints),
+    )?;
     Ok(())
 }
 

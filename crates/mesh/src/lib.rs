@@ -17,7 +17,8 @@
 //! | [`MeshError`] | every failure, naming file, line or entity |
 //!
 //! Pipeline: [`gmsh::mesh_geo`] (`.geo` -> `.msh`), [`read_msh`] (`.msh` ->
-//! [`Mesh`]), [`validate()`], [`insert_joints`], [`Summary`].
+//! [`Mesh`]), [`validate()`], [`insert_joints`], [`Summary`]; [`write_msh41`]
+//! writes a mesh back, joints included.
 //!
 //! Validation: [`validate()`] refuses nodes at r < 0 and cells whose
 //! Jacobian vanishes or changes sign anywhere in the cell (bounded over the
@@ -42,7 +43,7 @@ pub mod validate;
 pub use error::MeshError;
 pub use joints::{insert_joints, JointSpec};
 pub use mesh::*;
-pub use msh::{parse_msh, read_msh, MshFile};
+pub use msh::{parse_msh, read_msh, write_msh41, MshFile};
 pub use pipeline::prepare;
 pub use summary::Summary;
 pub use validate::{check_curve_edges, validate, CellEdges, Validation};

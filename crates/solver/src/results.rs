@@ -5,6 +5,7 @@
 //! DIR/solution.json     header: scene echo, mesh reference, reactions, timings
 //! DIR/displacement.f64  amplitudes, little-endian f64, shape [harmonic][family][node][component]
 //! DIR/mesh.msh          the mesh that was solved (gmsh's output, or a copy of the input .msh)
+//! DIR/mesh_solved.msh   that mesh with the joints inserted: node k is row k of displacement.f64
 //! DIR/joints.json       joint field per point and section (nonlinear runs)
 //! ```
 //!
@@ -25,6 +26,9 @@ use std::path::{Path, PathBuf};
 pub const FORMAT: &str = "axijoint-solution";
 /// Header version.
 pub const VERSION: u32 = 1;
+/// The mesh with its joints inserted, as solved (MSH 4.1 ASCII, see
+/// [`axijoint_mesh::write_msh41`]): its node k is node k of the displacements.
+pub const SOLVED_MESH: &str = "mesh_solved.msh";
 
 /// Where the mesh is and how to recognise it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -151,12 +155,13 @@ fn output_error(path: &Path, message: impl std::fmt::Display, fault: OutputFault
 }
 
 /// Writes a solution folder at `dir` (see the module doc). `msh` is the mesh
-/// file to copy in.
+/// file to copy in, `mesh` the mesh solved from it (joints inserted).
 pub fn write_solution(
     dir: &Path,
     header: &SolutionHeader,
     u: &Displacements,
     msh: &Path,
+    mesh: &Mesh,
     joints: Option<&JointFieldFile>,
 ) -> Result<(), SolverError> {
     for h in &u.harmonics {
@@ -198,6 +203,15 @@ pub fn write_solution(
     std::fs::create_dir_all(&stage).map_err(|e| out_err(&stage, e))?;
     let result = (|| {
         std::fs::copy(msh, stage.join(&header.mesh.file)).map_err(|e| out_err(msh, e))?;
+        let solved = stage.join(SOLVED_MESH);
+        let file = std::fs::File::create(&solved).map_err(|e| out_err(&solved, e))?;
+        let mut w = std::io::BufWriter::new(file);
+        axijoint_mesh::write_msh41(mesh, &mut w)
+            .and_then(|()| w.flush())
+            .map_err(|e| match e.kind() {
+                std::io::ErrorKind::InvalidInput => bad_saved(&solved, e),
+                _ => out_err(&solved, e),
+            })?;
         let bin = stage.join(&header.displacement.file);
         let mut w = std::io::BufWriter::new(std::fs::File::create(&bin).map_err(|e| out_err(&bin, e))?);
         for h in &u.harmonics {

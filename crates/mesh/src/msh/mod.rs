@@ -1,4 +1,5 @@
-//! Reading gmsh `.msh` files: MSH 4.1 (ASCII and binary) and MSH 2.2 (ASCII).
+//! Reading gmsh `.msh` files: MSH 4.1 (ASCII and binary) and MSH 2.2 (ASCII);
+//! writing a mesh with its joints as MSH 4.1 ASCII ([`write_msh41`]).
 //!
 //! [`parse_msh`] turns the bytes into an [`MshFile`] (what the file says,
 //! format differences removed); [`MshFile::to_mesh`] makes the [`Mesh`] of
@@ -21,11 +22,13 @@ mod cursor;
 mod types;
 mod v22;
 mod v41;
+mod write;
 
 use crate::{Mesh, MeshError};
 use cursor::{quote, Cursor};
 use std::collections::{HashMap, HashSet};
 use std::path::Path;
+pub use write::{joint_quads, write_msh41};
 
 /// The flavour of a `.msh` file.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
