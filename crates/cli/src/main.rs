@@ -43,6 +43,10 @@ use std::process::ExitCode;
 struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// Neither read nor write the mesh cache: gmsh meshes every .geo
+    /// (cache: $AXIJOINT_CACHE, else $XDG_CACHE_HOME/axijoint, else ~/.cache/axijoint).
+    #[arg(long, global = true)]
+    no_cache: bool,
 }
 
 #[derive(Subcommand)]
@@ -60,6 +64,9 @@ enum Command {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     axijoint_solver::linear::prefer_harmonic_parallelism();
+    if !cli.no_cache {
+        axijoint_mesh::gmsh::cache::set_dir(axijoint_mesh::gmsh::cache::default_dir());
+    }
     let result = match cli.command {
         Command::Mesh(args) => mesh_cmd::run(&args),
         Command::Solve(args) => solve_cmd::run_solve(&args),
@@ -152,6 +159,13 @@ fn solver_status(e: &axijoint_solver::error::SolverError) -> u8 {
         SolverError::Scene(e) => scene_status(e),
         SolverError::Solve(e) => solve_status(e),
         SolverError::Iteration(e) => iteration_status(e),
+        SolverError::InitialPhase { beyond_capacity, .. } => {
+            if *beyond_capacity {
+                BEYOND_CAPACITY
+            } else {
+                NUMERICAL_FAILURE
+            }
+        }
         SolverError::Output { fault, .. } => match fault {
             OutputFault::Io => IO_ERROR,
             OutputFault::Content => INPUT_ERROR,

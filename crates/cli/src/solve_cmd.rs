@@ -2,7 +2,7 @@
 
 use anyhow::{Context, Result};
 use axijoint_report::cuts::profile_values;
-use axijoint_solver::driver::{solution_header, solve_scene_auto, solve_scene_with, LinearRun, Run};
+use axijoint_solver::driver::{solution_header, solve_scene_auto, solve_scene_with, InitialState, LinearRun, Run};
 use axijoint_solver::iteration::{IterationError, IterationRecord};
 use axijoint_solver::results::{read_solution, write_solution, JointFieldFile, SolutionHeader};
 use axijoint_solver::scene::{Harmonics, Scene};
@@ -137,8 +137,8 @@ pub fn solve_to(scene: &Scene, out: &Path, quiet: bool) -> Result<SolutionHeader
     } else {
         // A one-shot run that stops writes its last iterate, marked.
         let written = std::cell::RefCell::new(None);
-        let on_failure = |linear: &LinearRun, e: &IterationError| {
-            *written.borrow_mut() = Some(write_last_iterate(scene, linear, e, &msh, out));
+        let on_failure = |linear: &LinearRun, initial: Option<&InitialState>, e: &IterationError| {
+            *written.borrow_mut() = Some(write_last_iterate(scene, linear, initial, e, &msh, out));
         };
         match solve_scene_with(scene, Some(&msh), progress, on_failure) {
             Ok(run) => Ok((scene.clone(), run)),
@@ -160,6 +160,7 @@ pub fn solve_to(scene: &Scene, out: &Path, quiet: bool) -> Result<SolutionHeader
     bar.finish_and_clear();
     let (solved, run): (Scene, Run) = result?;
     let mut header = solution_header(&solved, &run.linear);
+    header.initial = run.initial.as_ref().map(axijoint_solver::driver::initial_info);
     if let Some(outcome) = &run.outcome {
         header.extra = serde_json::json!({
             "iterations": outcome.history.len(),
@@ -199,14 +200,16 @@ pub fn solve_to(scene: &Scene, out: &Path, quiet: bool) -> Result<SolutionHeader
             "steps": run.auto_steps,
         });
     }
-    let joints = run.outcome.as_ref().map(|o| {
-        let springs: Vec<_> = run.linear.model.joints.iter().map(|j| j.springs).collect();
-        JointFieldFile::new(&run.linear.model.mesh, &springs, &o.field)
-    });
+    // Every joint's field, linear ones included (`t0 + k d`, stick).
+    let springs: Vec<_> = run.linear.model.joints.iter().map(|j| j.springs).collect();
+    let joints = run
+        .joint_field(&solved)?
+        .map(|f| JointFieldFile::new(&run.linear.model.mesh, &springs, &f));
     write_solution(
         out,
         &header,
         &run.linear.displacements,
+        run.initial.as_ref().map(|i| &i.displacements),
         &msh,
         &run.linear.model.mesh,
         joints.as_ref(),
@@ -220,6 +223,7 @@ pub fn solve_to(scene: &Scene, out: &Path, quiet: bool) -> Result<SolutionHeader
 fn write_last_iterate(
     scene: &Scene,
     linear: &LinearRun,
+    initial: Option<&InitialState>,
     e: &IterationError,
     msh: &Path,
     out: &Path,
@@ -228,6 +232,7 @@ fn write_last_iterate(
         return Ok(());
     };
     let mut header = solution_header(scene, linear);
+    header.initial = initial.map(axijoint_solver::driver::initial_info);
     header.extra = serde_json::json!({
         "converged": false,
         "error": e.to_string(),
@@ -243,6 +248,7 @@ fn write_last_iterate(
         out,
         &header,
         &linear.displacements,
+        initial.map(|i| &i.displacements),
         msh,
         &linear.model.mesh,
         Some(&joints),
@@ -267,6 +273,24 @@ fn print_summary(path: &Path, scene: &Scene, header: &SolutionHeader, out: &Path
         "  time: setup {:.3} s, assembly + factorization {:.3} s, solve {:.3} s",
         t.setup, t.factorize, t.solve
     );
+    if let Some(i) = &header.initial {
+        let b = &i.balance;
+        println!(
+            "  initial phase: weight {:.6e} {f}, out-of-balance {:.3e} {f} ({:.2e} of the largest nodal force), {} iterations, max |u| {:.6e} {l} (displacements below are from its end)",
+            b.weight,
+            b.max_force,
+            b.relative,
+            i.iterations,
+            i.max_displacement,
+            f = scene.units.force,
+            l = scene.units.length,
+        );
+        if b.relative > 0.01 {
+            println!(
+                "  note: the initial stresses are not in balance with the weight and supports (above 1 %); the initial phase moved the model to balance them"
+            );
+        }
+    }
     if let Some(h) = header.extra.get("history").and_then(|h| h.as_array()) {
         if let Some(last) = h.last() {
             println!(

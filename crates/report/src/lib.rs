@@ -14,12 +14,14 @@
 //! | [`field::Locator`] | R-tree point location in the meridional mesh |
 //! | [`field::Field`] | displacement and stress synthesized at any theta, per body |
 //! | [`cuts::profile`] | a cut's rows, two per interface crossing |
+//! | [`cuts::joint_crossings`], [`cut_plot`] | where a cut meets joints; a cut's plot |
 //! | [`csv_out`] | CSV writers |
 //! | [`plots`] | SVG and PNG plots (embedded font) |
 //! | [`vtu`], [`gmsh_view`] | the field revolved for ParaView; a gmsh view |
 //! | [`write_report`] | every output of a solution folder |
 
 pub mod csv_out;
+pub mod cut_plot;
 pub mod cuts;
 pub mod error;
 pub mod field;
@@ -83,12 +85,13 @@ pub fn load_path(saved: &SavedSolution) -> Result<Option<LoadPath>, ReportError>
 /// folder itself), as the scene's `outputs` asks: cut, joint and
 /// convergence CSVs; plots of the cuts (with `companion`, the run without
 /// joints, dashed), of the joint states and of the convergence (with the
-/// `compare` runs' histories on the same axis); the revolved `.vtu` and the
-/// gmsh view.
+/// `compare` runs' histories on the same axis, this run's labelled `label`,
+/// default its scene's title); the revolved `.vtu` and the gmsh view.
 pub fn write_report(
     dir: &Path,
     saved: &SavedSolution,
     companion: Option<&SavedSolution>,
+    label: Option<&str>,
     compare: &[(String, Vec<IterationRecord>)],
 ) -> Result<Written, ReportError> {
     let scene = &saved.header.scene;
@@ -98,7 +101,21 @@ pub fn write_report(
         mesh: &saved.mesh,
         materials: &mats,
         u: &saved.displacements,
+        initial: field::Initial::of(saved),
     };
+    // The initial state alone (its own cut files).
+    let no_displacement = axijoint_solver::driver::Displacements {
+        harmonics: Vec::new(),
+    };
+    let initial_field = field.initial.as_ref().map(|init| field::Field {
+        mesh: &saved.mesh,
+        materials: &mats,
+        u: init.u.unwrap_or(&no_displacement),
+        initial: Some(field::Initial {
+            stress: init.stress.clone(),
+            u: None,
+        }),
+    });
     let locator = field::Locator::new(&saved.mesh);
     let companion_parts = match companion {
         Some(c) => Some((materials(c)?, field::Locator::new(&c.mesh))),
@@ -115,6 +132,12 @@ pub fn write_report(
                 let name = format!("cut_{}_theta{}.csv", cut.name, fmt_angle(t));
                 csv_out::write_cut(&dir.join(&name), &rows, length, stress)?;
                 add(name);
+                if let Some(f) = &initial_field {
+                    let rows = cuts::profile(f, &locator, &[cut.from, cut.to], cut.spacing, &[t]);
+                    let name = format!("cut_{}_theta{}_initial.csv", cut.name, fmt_angle(t));
+                    csv_out::write_cut(&dir.join(&name), &rows, length, stress)?;
+                    add(name);
+                }
             }
             let c = cut.component_index().unwrap_or(1);
             let with_joints = !saved.mesh.joints.is_empty();
@@ -132,23 +155,17 @@ pub fn write_report(
                     mesh: &other.mesh,
                     materials: m,
                     u: &other.displacements,
+                    initial: field::Initial::of(other),
                 };
                 let rows = cuts::profile(&f, loc, &[cut.from, cut.to], cut.spacing, &[t]);
                 series.extend(by_body(&rows, c, t, k, &other.mesh, "without joint", true));
             }
         }
         if outputs.plots {
-            let name = format!("cut_{}", cut.name);
-            plots::plot_profile(
-                &dir.join(format!("{name}.svg")),
-                &dir.join(format!("{name}.png")),
-                &format!("Cut {}: {} ({stress})", cut.name, cut.component),
-                &format!("distance along the cut ({length})"),
-                &format!("{} ({stress})", cut.component),
-                &series,
-            )?;
-            add(format!("{name}.svg"));
-            add(format!("{name}.png"));
+            let files = cut_plot::write(dir, cut, &saved.mesh, series, length, stress)?;
+            for f in files {
+                add(f);
+            }
         }
     }
     let joints = read_joint_field(dir).map_err(|e| ReportError::Input(e.to_string()))?;
@@ -192,7 +209,7 @@ pub fn write_report(
         }
         if outputs.plots {
             let mut runs = vec![(
-                scene.title.clone(),
+                label.unwrap_or(&scene.title).to_owned(),
                 history.iter().map(|r| (r.iteration, r.ratio)).collect(),
             )];
             runs.extend(
@@ -225,8 +242,8 @@ pub fn write_report(
                     points: std::iter::once((0.0, 0.0))
                         .chain(path.steps.iter().map(|s| (s.observed.faces[k].along, s.lambda)))
                         .collect(),
-                    dashed: false,
                     color: k,
+                    dash: 0,
                 })
                 .collect();
             let title = match &path.limit {
@@ -276,7 +293,8 @@ pub fn write_report(
 }
 
 /// One plot series per body of a cut's rows (a jump at an interface shows
-/// as two lines).
+/// as two lines), as `(s, value)`; colour slot `k * bodies + body`, dash 1
+/// when `dashed`.
 fn by_body(
     rows: &[cuts::CutRow],
     component: usize,
@@ -299,8 +317,8 @@ fn by_body(
             (!points.is_empty()).then(|| plots::Series {
                 label: format!("theta {theta} deg, {}{sep}{variant}", body.name),
                 points,
-                dashed,
                 color: k * mesh.bodies.len() + b,
+                dash: usize::from(dashed),
             })
         })
         .collect()

@@ -447,6 +447,116 @@ pub struct Run {
     pub initial: Option<InitialState>,
 }
 
+impl Run {
+    /// The joint field of the run: the iteration's, or when every joint is
+    /// linear [`linear_joint_field`] of the displacements on the sections
+    /// of `scene` (the solved scene); `None` without joints.
+    pub fn joint_field(
+        &self,
+        scene: &Scene,
+    ) -> Result<Option<std::borrow::Cow<'_, crate::iteration::JointField>>, SolverError> {
+        use std::borrow::Cow;
+        if let Some(outcome) = &self.outcome {
+            return Ok(Some(Cow::Borrowed(&outcome.field)));
+        }
+        let model = &self.linear.model;
+        if model.mesh.joints.is_empty() {
+            return Ok(None);
+        }
+        let sections = scene_sections(scene, &self.linear.loads)?;
+        let t0 = self.initial.as_ref().map(|i| i.traction.as_slice());
+        Ok(Some(Cow::Owned(linear_joint_field(
+            model,
+            &self.linear.displacements,
+            &sections,
+            t0,
+        ))))
+    }
+}
+
+/// The relative displacement `(d_xi, d_eta, d_theta)` of `u` at every joint
+/// point and section: index `s * points.len() + p`.
+pub fn joint_relative_displacements(
+    points: &[crate::iteration::PointInfo],
+    u: &Displacements,
+    sections: &crate::fourier::Sections,
+) -> Vec<[f64; 3]> {
+    use crate::fourier::Family;
+    let zero = [0.0; 3];
+    let mut out = Vec::with_capacity(sections.len() * points.len());
+    let mut ue = [0.0; 18];
+    for &theta in &sections.theta {
+        let phi: Vec<_> = u
+            .harmonics
+            .iter()
+            .map(|h| {
+                (
+                    sections.phi(h.m, Family::Symmetric, theta),
+                    sections.phi(h.m, Family::Antisymmetric, theta),
+                )
+            })
+            .collect();
+        for p in points {
+            let ue = &mut ue[..3 * p.nodes.len()];
+            ue.fill(0.0);
+            for (h, &((a, b), (c, e))) in u.harmonics.iter().zip(&phi) {
+                for (i, &k) in p.nodes.iter().enumerate() {
+                    let s = h.symmetric.get(3 * k..3 * k + 3).unwrap_or(&zero);
+                    let t = h.antisymmetric.get(3 * k..3 * k + 3).unwrap_or(&zero);
+                    ue[3 * i] += a * s[0] + c * t[0];
+                    ue[3 * i + 1] += a * s[1] + c * t[1];
+                    ue[3 * i + 2] += b * s[2] + e * t[2];
+                }
+            }
+            out.push(crate::elements::relative_displacement(&p.point, ue));
+        }
+    }
+    out
+}
+
+/// The tractions `t0 + k d` of linear joints at the relative displacements
+/// `d` (index `s * points.len() + p`); `t0` per point, none: zero.
+fn linear_tractions(
+    model: &Model,
+    points: &[crate::iteration::PointInfo],
+    d: &[[f64; 3]],
+    t0: Option<&[[f64; 3]]>,
+) -> Vec<[f64; 3]> {
+    let n_p = points.len().max(1);
+    d.iter()
+        .enumerate()
+        .map(|(k, d)| {
+            let kd = model.joints[points[k % n_p].joint].springs.traction(*d);
+            let t = t0.and_then(|t| t.get(k % n_p)).copied().unwrap_or([0.0; 3]);
+            [0, 1, 2].map(|c| t[c] + kd[c])
+        })
+        .collect()
+}
+
+/// The joint field of a run whose joints are all linear: at every joint
+/// point and section the relative displacement `d` of `u`, the traction
+/// `t0 + k d` (`t0` per point: the end of the initial phase, if any) and
+/// the state stick.
+pub fn linear_joint_field(
+    model: &Model,
+    u: &Displacements,
+    sections: &crate::fourier::Sections,
+    t0: Option<&[[f64; 3]]>,
+) -> crate::iteration::JointField {
+    let points = crate::iteration::joint_point_infos(model);
+    let d = joint_relative_displacements(&points, u, sections);
+    let p = linear_tractions(model, &points, &d, t0);
+    let n = d.len();
+    crate::iteration::JointField {
+        sections: sections.clone(),
+        points,
+        d,
+        p,
+        state: vec![crate::joint_law::JointState::Stick; n],
+        debonded: vec![false; n],
+    }
+}
+
 /// The end of a scene's initial phase (docs/loading.md).
 #[derive(Clone, Debug)]
 pub struct InitialState {
@@ -459,8 +569,9 @@ pub struct InitialState {
     /// Iterations of the phase (0 without nonlinear joints).
     pub iterations: usize,
     /// Joint traction `(tau_xi, sigma, tau_theta)` at the end of the phase,
-    /// per joint point (axisymmetric: the same at every theta); without
-    /// nonlinear joints the initial traction (nothing iterates on it).
+    /// per joint point (axisymmetric: the same at every theta): the initial
+    /// traction plus what the joint law adds along the phase (`k d` for a
+    /// linear joint).
     pub traction: Vec<[f64; 3]>,
     /// Debonded joint points.
     pub debonded: Vec<bool>,
@@ -497,9 +608,13 @@ pub fn initial_phase(
     let nonlinear = scene.joints.values().any(|j| j.law != JointLaw::Linear);
     let n_points = il.traction.len();
     let (displacements, iterations, traction, debonded) = if !nonlinear || model.mesh.joints.is_empty() {
-        // No iteration follows: the joints keep their initial tractions.
+        // No iteration: the linear joints end at t0 + k d of the phase.
         let u = solve_loads(model, &linear.factors, &loads);
-        (u, 0, il.traction, vec![false; n_points])
+        let points = crate::iteration::joint_point_infos(model);
+        let axisymmetric = crate::fourier::Sections::full_circle(vec![0.0]).expect("one section is valid");
+        let d = joint_relative_displacements(&points, &u, &axisymmetric);
+        let traction = linear_tractions(model, &points, &d, Some(&il.traction));
+        (u, 0, traction, vec![false; n_points])
     } else {
         let sections = scene_sections(scene, &linear.loads)?;
         let start = crate::iteration::JointStart {
@@ -897,7 +1012,7 @@ pub fn solve_scene(
     keep_msh: Option<&Path>,
     progress: impl FnMut(&crate::iteration::IterationRecord),
 ) -> Result<Run, SolverError> {
-    solve_scene_with(scene, keep_msh, progress, |_, _| {})
+    solve_scene_with(scene, keep_msh, progress, |_, _, _| {})
 }
 
 /// [`solve_scene`]; when a one-shot iteration stops without a solution,
@@ -908,7 +1023,7 @@ pub fn solve_scene_with(
     scene: &Scene,
     keep_msh: Option<&Path>,
     mut progress: impl FnMut(&crate::iteration::IterationRecord),
-    on_failure: impl FnOnce(&LinearRun, &crate::iteration::IterationError),
+    on_failure: impl FnOnce(&LinearRun, Option<&InitialState>, &crate::iteration::IterationError),
 ) -> Result<Run, SolverError> {
     use crate::scene::JointLaw;
     let nonlinear = scene.joints.values().any(|j| j.law != JointLaw::Linear);
@@ -939,7 +1054,7 @@ pub fn solve_scene_with(
             if let Some(last) = e.last() {
                 linear.displacements = padded(&last.displacements, &linear.loads);
                 linear.reactions = Vec::new();
-                on_failure(&linear, &e);
+                on_failure(&linear, initial.as_ref(), &e);
             }
             return Err(SolverError::Iteration(e));
         }

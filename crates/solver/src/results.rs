@@ -108,6 +108,25 @@ pub struct SolutionHeader {
     /// Extra run information (iterations, joint states): free JSON.
     #[serde(default)]
     pub extra: serde_json::Value,
+    /// The initial phase, if the scene has one: the displacements above are
+    /// relative to its end.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub initial: Option<InitialInfo>,
+}
+
+/// The initial phase of a solution (docs/loading.md, "Initial phase").
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct InitialInfo {
+    /// The displacements of the phase (harmonic 0; the stresses of the
+    /// solution are the initial stresses plus those of these displacements
+    /// plus those of `displacement`).
+    pub displacement: ArrayRef,
+    /// Out-of-balance of the initial stresses.
+    pub balance: crate::initial::Balance,
+    /// Largest displacement magnitude of the phase.
+    pub max_displacement: f64,
+    /// Iterations of the phase.
+    pub iterations: usize,
 }
 
 /// FNV-1a over the bit patterns of the coordinates.
@@ -160,6 +179,7 @@ pub fn write_solution(
     dir: &Path,
     header: &SolutionHeader,
     u: &Displacements,
+    initial: Option<&Displacements>,
     msh: &Path,
     mesh: &Mesh,
     joints: Option<&JointFieldFile>,
@@ -212,14 +232,20 @@ pub fn write_solution(
                 std::io::ErrorKind::InvalidInput => bad_saved(&solved, e),
                 _ => out_err(&solved, e),
             })?;
-        let bin = stage.join(&header.displacement.file);
-        let mut w = std::io::BufWriter::new(std::fs::File::create(&bin).map_err(|e| out_err(&bin, e))?);
-        for h in &u.harmonics {
-            for v in h.symmetric.iter().chain(&h.antisymmetric) {
-                w.write_all(&v.to_le_bytes()).map_err(|e| out_err(&bin, e))?;
+        let arrays = [(&header.displacement.file, Some(u))]
+            .into_iter()
+            .chain(header.initial.as_ref().map(|i| (&i.displacement.file, initial)));
+        for (file, u) in arrays {
+            let bin = stage.join(file);
+            let u = u.ok_or_else(|| out_err(&bin, "no values given for this array"))?;
+            let mut w = std::io::BufWriter::new(std::fs::File::create(&bin).map_err(|e| out_err(&bin, e))?);
+            for h in &u.harmonics {
+                for v in h.symmetric.iter().chain(&h.antisymmetric) {
+                    w.write_all(&v.to_le_bytes()).map_err(|e| out_err(&bin, e))?;
+                }
             }
+            w.flush().map_err(|e| out_err(&bin, e))?;
         }
-        w.flush().map_err(|e| out_err(&bin, e))?;
         if let Some(field) = joints {
             let path = stage.join("joints.json");
             let text = serde_json::to_string(field).map_err(|e| out_err(&path, e))?;
@@ -251,6 +277,8 @@ pub struct SavedSolution {
     pub mesh: Mesh,
     /// Amplitudes.
     pub displacements: Displacements,
+    /// The displacements of the initial phase (harmonic 0), if any.
+    pub initial_displacements: Option<Displacements>,
 }
 
 /// Reads a solution folder, rebuilding and checking its mesh.
@@ -277,13 +305,28 @@ pub fn read_solution(dir: &Path) -> Result<SavedSolution, SolverError> {
             "the mesh does not match solution.json (nodes or checksum differ)",
         ));
     }
-    let bin = dir.join(&header.displacement.file);
-    let bytes = std::fs::read(&bin).map_err(|e| read_err(&bin, e))?;
-    let n = 3 * mesh.nodes.len();
-    let expected = header.harmonics.len() * 2 * n * 8;
+    let n = mesh.nodes.len();
+    let displacements = read_amplitudes(&dir.join(&header.displacement.file), &header.harmonics, n)?;
+    let initial_displacements = match &header.initial {
+        Some(i) => Some(read_amplitudes(&dir.join(&i.displacement.file), &[0], n)?),
+        None => None,
+    };
+    Ok(SavedSolution {
+        header,
+        mesh,
+        displacements,
+        initial_displacements,
+    })
+}
+
+/// Reads displacement amplitudes of `harmonics` on `n_nodes` nodes.
+fn read_amplitudes(bin: &Path, harmonics: &[u32], n_nodes: usize) -> Result<Displacements, SolverError> {
+    let bytes = std::fs::read(bin).map_err(|e| read_err(bin, e))?;
+    let n = 3 * n_nodes;
+    let expected = harmonics.len() * 2 * n * 8;
     if bytes.len() != expected {
         return Err(bad_saved(
-            &bin,
+            bin,
             format!(
                 "{} bytes, expected {expected} (truncated or not this solution's)",
                 bytes.len()
@@ -295,10 +338,9 @@ pub fn read_solution(dir: &Path) -> Result<SavedSolution, SolverError> {
         .map(|c| f64::from_le_bytes(c.try_into().expect("8 bytes")))
         .collect();
     if values.iter().any(|v| !v.is_finite()) {
-        return Err(bad_saved(&bin, "contains values that are not finite"));
+        return Err(bad_saved(bin, "contains values that are not finite"));
     }
-    let harmonics = header
-        .harmonics
+    let harmonics = harmonics
         .iter()
         .enumerate()
         .map(|(k, &m)| HarmonicDisplacement {
@@ -307,11 +349,7 @@ pub fn read_solution(dir: &Path) -> Result<SavedSolution, SolverError> {
             antisymmetric: values[(2 * k + 1) * n..(2 * k + 2) * n].to_vec(),
         })
         .collect();
-    Ok(SavedSolution {
-        header,
-        mesh,
-        displacements: Displacements { harmonics },
-    })
+    Ok(Displacements { harmonics })
 }
 
 /// Where a joint integration point is.

@@ -193,3 +193,104 @@ fn without_an_initial_phase_the_shaft_debonds_early() {
     assert!(limit.beyond_capacity, "{}", limit.reason);
     assert!(reached < 0.1 * capacity, "{reached} vs {capacity}");
 }
+
+/// The shipped `geo/pile_soil_gravity.json` with its loads replaced.
+fn pile_with_gravity(force: [f64; 3]) -> Scene {
+    let path = geo("pile_soil_gravity.json");
+    let mut v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    v["loads"] = serde_json::json!([{"type": "resultant", "on": "pile_head", "force": force}]);
+    v["cuts"] = serde_json::json!([]);
+    Scene::from_str(&v.to_string(), &path).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Laterally loaded, with gravity: the whole load is reached from 0.05 to
+/// 5 MN (the soil is elastic: only the joints open and slip, so there is no
+/// lateral limit), and the head moves more than in proportion as the back
+/// of the shaft opens.
+#[test]
+fn laterally_loaded_pile_with_gravity_reaches_its_load() {
+    let mut previous: Option<(f64, f64)> = None;
+    for h in [0.05, 0.5, 5.0] {
+        let run = solve_scene(&pile_with_gravity([h, 0.0, 0.0]), None, |_| {})
+            .unwrap_or_else(|e| panic!("{h}: {e}"));
+        let path = run.load_path.as_ref().expect("stepped");
+        assert!(path.limit.is_none(), "{h}: {:?}", path.limit);
+        let mesh = &run.linear.model.mesh;
+        let ux = axijoint_solver::driver::face_displacement(mesh, "pile_head", &run.linear.displacements)
+            .unwrap()[0];
+        let rx: f64 = run.linear.reactions.iter().map(|r| r.force[0]).sum();
+        println!(
+            "H = {h}: head u_x = {ux:.6e}, reactions {rx:.6e}, {} steps",
+            path.steps.len()
+        );
+        assert!((rx + h).abs() < 1e-6 * h, "{rx} vs {h}");
+        if let Some((h0, u0)) = previous {
+            assert!(ux / h > u0 / h0, "flexibility grows: {ux} / {h} vs {u0} / {h0}");
+        }
+        previous = Some((h, ux));
+    }
+}
+
+/// Pulled up: the base (no tension) opens, and the limit is the pile's
+/// weight plus the shaft's Mohr-Coulomb strength `Sum(C + tan(phi)
+/// |sigma_n|) dA` over its closed points at the normal stress of the limit
+/// state. The closed form with the initial normal stress `K0 gamma |z|`,
+/// `W + 2 pi a (C L + K0 gamma tan(phi) L^2 / 2)`, is 9 % above it: the
+/// soil dragged up with the pile relieves the radial stress on the shaft
+/// (the shaft's normal force falls 6 %) and opens its top 1.5 m, where the
+/// initial stress is smallest (pushing down raised it by 1 %, see the
+/// rigid-pile test): shaft capacities are lower in tension than in
+/// compression (De Nicola and Randolph, Geotechnique 43(4), 1993).
+#[test]
+fn uplift_capacity_of_a_pile_with_gravity_is_its_weight_plus_the_shaft() {
+    let (a, l, c, phi, k0, gamma, gamma_pile) = (0.5, 10.0, 0.02, 30.0f64, 0.5, 0.018, 0.024);
+    let weight = gamma_pile * PI * a * a * l;
+    let initial = weight + 2.0 * PI * a * (c * l + k0 * gamma * phi.to_radians().tan() * l * l / 2.0);
+    let force = 2.5;
+    let run =
+        solve_scene(&pile_with_gravity([0.0, 0.0, force]), None, |_| {}).unwrap_or_else(|e| panic!("{e}"));
+    let limit = run
+        .load_path
+        .as_ref()
+        .and_then(|p| p.limit.as_ref())
+        .expect("a limit load");
+    assert!(limit.beyond_capacity, "{}", limit.reason);
+    let reached = limit.factor * force;
+    // The shaft's strength at the limit state's normal stress (section 0;
+    // the problem is axisymmetric).
+    let field = &run.outcome.as_ref().unwrap().field;
+    let side = run
+        .linear
+        .model
+        .mesh
+        .joints
+        .iter()
+        .position(|j| j.name == "pile_side")
+        .unwrap();
+    let (mut strength, mut normal, mut open) = (0.0, 0.0, 0.0);
+    for ((info, p), (st, debonded)) in field
+        .points
+        .iter()
+        .zip(&field.p)
+        .zip(field.state.iter().zip(&field.debonded))
+    {
+        if info.joint == side {
+            let area = 2.0 * PI * info.point.area();
+            let cohesion = if *debonded { 0.0 } else { c };
+            if *st == axijoint_solver::joint_law::JointState::Open {
+                open += area / (2.0 * PI * a);
+            } else {
+                strength += (cohesion - p[1].min(0.0) * phi.to_radians().tan()) * area;
+            }
+            normal += p[1] * area;
+        }
+    }
+    let expected = weight + strength;
+    let initial_normal = -k0 * gamma * l * l / 2.0 * 2.0 * PI * a;
+    println!(
+        "uplift limit {reached:.5} MN (factor {:.5}); W + shaft strength at the limit {expected:.5} MN; with the initial normal stress {initial:.5} MN; shaft normal force {normal:.5} MN, initially {initial_normal:.5} MN; {open:.2} m of the shaft open",
+        limit.factor
+    );
+    assert!((reached / expected - 1.0).abs() < 0.02, "{reached} vs {expected}");
+    assert!(reached < initial, "{reached} vs {initial}");
+}
