@@ -184,3 +184,140 @@ fn run_without_argument_runs_scene_p() {
     assert!(stdout.contains("Scene P"), "{stdout}");
     assert!(dir.path().join("out/pile_footing/summary.json").is_file());
 }
+
+/// The elements of a plot's SVG, one per line as plotters writes them:
+/// `(tag line, text content)` (content empty but for `<text>`).
+fn svg_elements(path: &Path) -> Vec<(String, String)> {
+    let svg = std::fs::read_to_string(path).unwrap();
+    let mut lines = svg.lines();
+    let mut out = Vec::new();
+    while let Some(line) = lines.next() {
+        let content = if line.starts_with("<text") {
+            lines.next().unwrap().to_owned()
+        } else {
+            String::new()
+        };
+        out.push((line.to_owned(), content));
+    }
+    out
+}
+
+/// The `points` of a `<polyline>`.
+fn points(line: &str) -> Vec<(f64, f64)> {
+    let list = line.split("points=\"").nth(1).unwrap().split('"').next().unwrap();
+    list.split_whitespace()
+        .map(|p| {
+            let (x, y) = p.split_once(',').unwrap();
+            (x.parse().unwrap(), y.parse().unwrap())
+        })
+        .collect()
+}
+
+/// The number in attribute `name` of an element's line.
+fn attr(line: &str, name: &str) -> Option<f64> {
+    let key = format!(" {name}=\"");
+    let start = line.find(&key)? + key.len();
+    line[start..start + line[start..].find('"')?].parse().ok()
+}
+
+/// The pixel of value `v` on an axis, from its tick labels (`anchor`
+/// "middle": x ticks, "end": y ticks).
+fn axis_pixel(elements: &[(String, String)], anchor: &str, v: f64) -> f64 {
+    let ticks: Vec<(f64, f64)> = elements
+        .iter()
+        .filter(|(l, _)| l.contains(&format!("text-anchor=\"{anchor}\"")) && !l.contains("transform"))
+        .filter_map(|(l, t)| {
+            let at = if anchor == "middle" {
+                attr(l, "x")
+            } else {
+                attr(l, "y")
+            };
+            Some((t.parse::<f64>().ok()?, at?))
+        })
+        .collect();
+    assert!(ticks.len() >= 2, "{ticks:?}");
+    let (a, b) = (ticks[0], ticks[ticks.len() - 1]);
+    a.1 + (v - a.0) * (b.1 - a.1) / (b.0 - a.0)
+}
+
+/// Scene P's plots: a cut's title says where it is and at which angles; the
+/// joint it crosses is marked at its distance along the cut (a-a crosses
+/// pile_side at r = a = 0.5 m, s = 0.5); a cut along z is drawn against z
+/// with the stretch where it runs along the joint (z = 0 to 1) as a band;
+/// `report --compare` of two runs of one scene labels them by folder. Pixel
+/// positions are read against the tick labels, to 1.5 px (ticks are
+/// rounded to whole pixels).
+#[test]
+fn scene_p_plots_say_where_and_compare_labels_differ() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut scene: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(geo("pile_footing.json")).unwrap()).unwrap();
+    scene["mesh"]["file"] = geo("pile_footing.geo").to_str().unwrap().into();
+    scene["cuts"] = serde_json::json!([
+        {"name": "a-a", "from": [0, 0.75], "to": [3.0, 0.75], "spacing": 0.05, "theta_deg": [0, 180]},
+        {"name": "v", "from": [0.5, -1.0], "to": [0.5, 1.5], "spacing": 0.05, "theta_deg": [0, 180]}
+    ]);
+    let path = dir.path().join("p.json");
+    std::fs::write(&path, scene.to_string()).unwrap();
+    let (a, b) = (dir.path().join("a/p"), dir.path().join("b/p"));
+    for out in [&a, &b] {
+        let run = axijoint(&["run", path.to_str().unwrap(), "-o", out.to_str().unwrap(), "-q"]);
+        assert!(run.status.success(), "{}", text(&run).1);
+    }
+
+    let cut = svg_elements(&a.join("cut_a-a.svg"));
+    let texts: Vec<&str> = cut.iter().map(|e| e.1.as_str()).collect();
+    assert!(texts.contains(&"Cut a-a: sigma_z at z = 0.75 m, r = 0 to 3 m; theta = 0, 180 deg"));
+    assert!(texts.contains(&"joint pile_side") && texts.contains(&"distance along the cut (m)"));
+    let line = cut
+        .iter()
+        .find(|(l, _)| l.starts_with("<polyline") && l.contains("stroke=\"#444444\""))
+        .expect("a marker line");
+    let xs: Vec<f64> = points(&line.0).iter().map(|p| p.0).collect();
+    let want = axis_pixel(&cut, "middle", 0.5);
+    assert!(
+        xs.iter().all(|x| (x - want).abs() <= 1.5),
+        "marker at {xs:?}, s = 0.5 at {want}"
+    );
+
+    let v = svg_elements(&a.join("cut_v.svg"));
+    let texts: Vec<&str> = v.iter().map(|e| e.1.as_str()).collect();
+    assert!(texts.contains(&"Cut v: sigma_z at r = 0.5 m, z = -1 to 1.5 m; theta = 0, 180 deg"));
+    assert!(texts.contains(&"z (m)") && texts.contains(&"sigma_z (MPa)"));
+    let band = v
+        .iter()
+        .find(|(l, _)| l.starts_with("<rect") && l.contains("fill=\"#444444\""))
+        .expect("a marker band");
+    let (top, height) = (attr(&band.0, "y").unwrap(), attr(&band.0, "height").unwrap());
+    let (z1, z0) = (axis_pixel(&v, "end", 1.0), axis_pixel(&v, "end", 0.0));
+    assert!(
+        (top - z1).abs() <= 1.5 && (top + height - z0).abs() <= 1.5,
+        "band {top}..{} for z = 1 at {z1}, z = 0 at {z0}",
+        top + height
+    );
+    // The data run from z = -1 to 1.5 up the plot.
+    let ys: Vec<f64> = v
+        .iter()
+        .filter(|(l, _)| l.starts_with("<polyline") && l.contains("stroke-width=\"2\""))
+        .flat_map(|(l, _)| points(l).into_iter().map(|p| p.1))
+        .collect();
+    let (lo, hi) = ys
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(lo, hi), &y| (lo.min(y), hi.max(y)));
+    let (top_z, bottom_z) = (axis_pixel(&v, "end", 1.5), axis_pixel(&v, "end", -1.0));
+    assert!(
+        (lo - top_z).abs() <= 1.5 && (hi - bottom_z).abs() <= 1.5,
+        "data {lo}..{hi}, z axis {top_z}..{bottom_z}"
+    );
+
+    let report = axijoint(&["report", a.to_str().unwrap(), "--compare", b.to_str().unwrap()]);
+    assert!(report.status.success(), "{}", text(&report).1);
+    let conv = svg_elements(&a.join("convergence.svg"));
+    let texts: Vec<&str> = conv.iter().map(|e| e.1.as_str()).collect();
+    assert!(texts.contains(&"a/p") && texts.contains(&"b/p"), "{texts:?}");
+    let title = scene["title"].as_str().unwrap();
+    assert!(
+        !texts.contains(&title),
+        "the runs are labelled by folder, not by title"
+    );
+}

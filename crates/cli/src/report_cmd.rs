@@ -5,20 +5,23 @@ use axijoint_report::write_report;
 use axijoint_solver::results::{read_joint_field, read_solution, SOLVED_MESH};
 use clap::Args;
 use serde_json::json;
-use std::path::{Path, PathBuf};
+use std::path::{Component, Path, PathBuf};
 
 #[derive(Args)]
 pub struct ReportArgs {
     /// A solution folder written by `axijoint solve` or `axijoint run`.
     pub dir: PathBuf,
-    /// Other solution folders whose convergence goes on the same plot.
+    /// Other solution folders whose convergence goes on the same plot
+    /// (each run labelled by its folder name, or as much of its path as
+    /// tells it from the others).
     #[arg(long, value_name = "DIR", num_args = 1..)]
     pub compare: Vec<PathBuf>,
 }
 
 /// Writes the outputs and the index `summary.json`; prints the file list.
 /// The comparison run `DIR/without_joints`, if there, gives the dashed
-/// curves; `compare` adds other runs' convergence.
+/// curves; `compare` adds other runs' convergence, every run then labelled
+/// by [`run_labels`].
 pub fn report(dir: &Path, compare: &[PathBuf]) -> Result<()> {
     let saved = read_solution(dir)?;
     let companion_dir = dir.join(crate::solve_cmd::WITHOUT_JOINTS);
@@ -28,13 +31,20 @@ pub fn report(dir: &Path, compare: &[PathBuf]) -> Result<()> {
         None
     };
     let mut runs = Vec::new();
+    let mut dirs = vec![dir.to_path_buf()];
     for other in compare {
         let o = read_solution(other)?;
         if let Some(h) = axijoint_report::history(&o)? {
-            runs.push((o.header.scene.title.clone(), h));
+            runs.push((String::new(), h));
+            dirs.push(other.clone());
         }
     }
-    let written = write_report(dir, &saved, companion.as_ref(), &runs)?;
+    let labels = run_labels(&dirs);
+    for (run, label) in runs.iter_mut().zip(&labels[1..]) {
+        run.0 = label.clone();
+    }
+    let label = (!runs.is_empty()).then(|| labels[0].as_str());
+    let written = write_report(dir, &saved, companion.as_ref(), label, &runs)?;
     let h = &saved.header;
     let joints = read_joint_field(dir)?;
     let mut joint_summary = serde_json::Map::new();
@@ -95,4 +105,82 @@ pub fn report(dir: &Path, compare: &[PathBuf]) -> Result<()> {
 
 pub fn run(args: &ReportArgs) -> Result<()> {
     report(&args.dir, &args.compare)
+}
+
+/// Legend labels that tell folders apart: each folder's name, or as many
+/// of the last components of its absolute path as make it differ from the
+/// others (the whole path, from `/`, when nothing less does). A folder
+/// given twice gets ` (2)`, ` (3)` after its label.
+pub fn run_labels(dirs: &[PathBuf]) -> Vec<String> {
+    let parts: Vec<Vec<String>> = dirs
+        .iter()
+        .map(|d| {
+            let abs = d
+                .canonicalize()
+                .or_else(|_| std::path::absolute(d))
+                .unwrap_or_else(|_| d.clone());
+            abs.components()
+                .filter_map(|c| match c {
+                    Component::Normal(s) => Some(s.to_string_lossy().into_owned()),
+                    _ => None,
+                })
+                .collect()
+        })
+        .collect();
+    let label = |p: &[String], depth: usize| {
+        let tail = p[p.len().saturating_sub(depth)..].join("/");
+        if depth >= p.len() {
+            format!("/{tail}")
+        } else {
+            tail
+        }
+    };
+    let mut depth = vec![1; dirs.len()];
+    let base = loop {
+        let labels: Vec<String> = parts.iter().zip(&depth).map(|(p, &d)| label(p, d)).collect();
+        let mut deeper = false;
+        for (i, d) in depth.iter_mut().enumerate() {
+            let shared = (0..labels.len()).any(|j| parts[j] != parts[i] && labels[j] == labels[i]);
+            if shared && *d < parts[i].len() {
+                *d += 1;
+                deeper = true;
+            }
+        }
+        if !deeper {
+            break labels;
+        }
+    };
+    let mut labels = base.clone();
+    for i in 1..labels.len() {
+        let same = base[..i].iter().filter(|l| **l == base[i]).count();
+        if same > 0 {
+            labels[i] = format!("{} ({})", base[i], same + 1);
+        }
+    }
+    labels
+}
+
+#[cfg(test)]
+mod tests {
+    use super::run_labels;
+
+    #[test]
+    fn labels_tell_folders_apart() {
+        let tmp = tempfile::tempdir().unwrap();
+        let root = tmp.path().canonicalize().unwrap();
+        for d in ["a/run", "b/run", "x/p", "x/q", "deep/b/run"] {
+            std::fs::create_dir_all(root.join(d)).unwrap();
+        }
+        let l = |ds: &[&str]| run_labels(&ds.iter().map(|d| root.join(d)).collect::<Vec<_>>());
+        assert_eq!(l(&["x/p", "x/q"]), ["p", "q"]);
+        assert_eq!(l(&["a/run", "b/run"]), ["a/run", "b/run"]);
+        assert_eq!(l(&["a/run", "b/run", "x/p"]), ["a/run", "b/run", "p"]);
+        let tmp_name = root.file_name().unwrap().to_string_lossy();
+        assert_eq!(
+            l(&["b/run", "deep/b/run"]),
+            [format!("{tmp_name}/b/run"), "deep/b/run".to_owned()]
+        );
+        // One folder twice, the second time by another spelling of its path.
+        assert_eq!(l(&["x/p", "a/../x/p"]), ["p", "p (2)"]);
+    }
 }

@@ -2,22 +2,32 @@
 //! the convergence of the residual ratio (Fig. 8), and maps of joint states.
 //!
 //! Every function draws the same figure twice, as an SVG document and as a
-//! PNG image of [`SIZE`] pixels, with [plotters] and the DejaVu Sans font
-//! embedded in this crate (no system font is read). Both are rendered in
-//! memory first, then each is written under a temporary name (`NAME.partial`
-//! beside it) renamed into place, so a failure leaves no half-written file
-//! and a refused input (a NaN, an infinity) leaves no file at all.
+//! PNG image, with [plotters] and the DejaVu Sans font embedded in this
+//! crate (no system font is read). Both are rendered in memory first, then
+//! each is written under a temporary name (`NAME.partial` beside it)
+//! renamed into place, so a failure leaves no half-written file and a
+//! refused input (a NaN, an infinity) leaves no file at all.
 //!
-//! Dashed lines: the SVG keeps each series as one `<polyline>` and marks the
-//! dashed ones with `stroke-dasharray`; the PNG draws the dashes. The SVG
-//! names the generic `sans-serif` family (the viewer's font; the embedded
-//! one gives plotters its text metrics); the PNG draws lines anti-aliased
-//! and text with the embedded font, glyph by glyph, through a small wrapper
-//! around plotters' bitmap backend.
+//! Layout: the canvas is [`SIZE`]`.0` wide and at least [`SIZE`]`.1` high.
+//! Text is measured with the embedded font's metrics (the ones plotters
+//! and the PNG use) and never cut: a title wider than the canvas is
+//! wrapped onto more lines; the legend sits right of the plot when every
+//! label fits there on one line and the entries fit its height, else below
+//! the plot in as many columns as the longest label allows (wrapped when
+//! one column is too narrow). The canvas grows downwards by what the extra
+//! title lines and a legend below take; the plot itself keeps its size.
+//!
+//! Line styles: each series has a colour of [`PALETTE`] and a dash pattern
+//! ([`dash_pattern`]); [`line_styles`] gives every series of a plot its own
+//! (colour, dash) pair, for any number of series. The SVG keeps each
+//! series as one `<polyline>` with its `stroke-dasharray`; the PNG draws
+//! the dashes. The SVG names the generic `sans-serif` family (the viewer's
+//! font); the PNG draws lines anti-aliased and text with the embedded font,
+//! glyph by glyph, through a small wrapper around plotters' bitmap backend.
 //!
 //! | item | draws |
 //! |---|---|
-//! | [`plot_profile`] | [`Series`] of `(x, y)` on linear axes, solid or dashed |
+//! | [`plot_profile`], [`plot_profile_with`] | [`Series`] of `(x, y)` on linear axes; [`Marker`]s (joints a cut crosses) |
 //! | [`plot_convergence`] | residual ratio against iteration, log y axis |
 //! | [`plot_joint_map`] | open / slip / stick cells over (s, theta) |
 
@@ -25,19 +35,20 @@ use crate::ReportError;
 use ab_glyph::{Font, FontRef, ScaleFont};
 use axijoint_solver::joint_law::JointState;
 use plotters::coord::Shift;
-use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 use plotters_backend::{BackendColor, BackendCoord, BackendStyle, BackendTextStyle, DrawingErrorKind};
 use std::path::Path;
 use std::sync::OnceLock;
 
-/// Width and height of every plot: PNG pixels and SVG user units.
+/// Width of every plot, and its height when the title takes one line and
+/// the legend fits beside the plot: PNG pixels and SVG user units. A
+/// longer title or legend makes the canvas taller, never wider.
 pub const SIZE: (u32, u32) = (1000, 700);
 
-/// Line colours as RGB, chosen by [`Series::color`] modulo the length
-/// (Okabe-Ito's colour-blind-safe set without its yellow, then black):
-/// blue, vermillion, green, purple, orange, sky blue, black.
+/// Line colours as RGB (Okabe-Ito's colour-blind-safe set without its
+/// yellow, then black): blue, vermillion, green, purple, orange, sky blue,
+/// black. [`line_styles`] combines them with dash patterns.
 pub const PALETTE: [(u8, u8, u8); 7] = [
     (0x00, 0x72, 0xB2),
     (0xD5, 0x5E, 0x00),
@@ -59,8 +70,11 @@ pub const STATE_COLORS: [(JointState, (u8, u8, u8)); 3] = [
 /// Legend labels of the joint map, in the order of [`STATE_COLORS`].
 pub const STATE_LABELS: [&str; 3] = ["stick", "slip", "open"];
 
-/// Stroke width of data lines in pixels (grid and axis lines are 1).
+/// Stroke width of data lines in pixels (grid, axis and marker lines are 1).
 pub const LINE_WIDTH: u32 = 2;
+
+/// Colour of [`Marker`] lines and labels, RGB.
+pub const MARKER_COLOR: (u8, u8, u8) = (0x44, 0x44, 0x44);
 
 /// One line of a plot.
 #[derive(Clone, Debug, PartialEq)]
@@ -70,21 +84,120 @@ pub struct Series {
     /// `(x, y)` in the caller's units, drawn in this order; must be finite.
     /// An empty series is skipped (no line, no legend entry).
     pub points: Vec<(f64, f64)>,
-    /// Dashed (the paper's "without the joint") or solid ("with the joint").
-    pub dashed: bool,
-    /// Index into [`PALETTE`] (taken modulo its length).
+    /// Colour slot: series of one quantity share it (see [`line_styles`]).
     pub color: usize,
+    /// Dash variant: 0 solid, 1 dashed (the paper's "without the joint"),
+    /// more for more variants (see [`line_styles`]).
+    pub dash: usize,
+}
+
+/// The drawn style of a series: its colour and its dash pattern.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub struct LineStyle {
+    /// RGB, one of [`PALETTE`].
+    pub rgb: (u8, u8, u8),
+    /// Index of [`dash_pattern`] (0 solid).
+    pub dash: usize,
+}
+
+/// Dash pattern `d` as lengths in pixels, on then off: 0 solid (empty),
+/// 1 dashed `10 6`, 2 dotted `2 4`, 3 dash-dot `16 5 3 5`, 4 long dash
+/// `22 6`, 5 dash-dot-dot, and from 6 on dash-dot with `d - 3` dots. No
+/// two indices give the same pattern.
+pub fn dash_pattern(d: usize) -> Vec<u32> {
+    match d {
+        0 => vec![],
+        1 => vec![10, 6],
+        2 => vec![2, 4],
+        3 => vec![16, 5, 3, 5],
+        4 => vec![22, 6],
+        _ => {
+            let mut p = vec![16, 5];
+            for _ in 0..d - 3 {
+                p.extend([3, 5]);
+            }
+            p
+        }
+    }
+}
+
+/// The style of each series of one plot from its requested `(color, dash)`:
+/// colour `PALETTE[color % 7]` and dash pattern `dash + V * (color / 7)`,
+/// where `V` is one more than the largest `dash` requested. Slots 0 to 6
+/// keep the requested dash; each further round of the palette moves to
+/// fresh patterns, so no two distinct requests share a style. A request
+/// repeated by a later series is moved to a fresh colour slot first (past
+/// the largest requested). Hence every series gets its own (colour, dash).
+pub fn line_styles(requests: &[(usize, usize)]) -> Vec<LineStyle> {
+    let variants = requests.iter().map(|r| r.1).max().map_or(1, |m| m + 1);
+    let mut fresh = requests.iter().map(|r| r.0).max().map_or(0, |m| m + 1);
+    let mut taken = std::collections::HashSet::new();
+    requests
+        .iter()
+        .map(|&(c, d)| {
+            let mut c = c;
+            while !taken.insert((c, d)) {
+                c = fresh;
+                fresh += 1;
+            }
+            LineStyle {
+                rgb: PALETTE[c % PALETTE.len()],
+                dash: d + variants * (c / PALETTE.len()),
+            }
+        })
+        .collect()
+}
+
+/// Which axis of a plot.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Axis {
+    /// Horizontal.
+    X,
+    /// Vertical.
+    Y,
+}
+
+/// A position marked across a profile plot, with a label: a line at
+/// `from` (when `to == from`) or a band from `from` to `to`, both in the
+/// units of `axis` (a line across the plot perpendicular to that axis).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Marker {
+    /// The axis `from` and `to` are on.
+    pub axis: Axis,
+    /// Start of the marked range.
+    pub from: f64,
+    /// End of the marked range (`from` for a line).
+    pub to: f64,
+    /// Text drawn beside the line, inside the plot.
+    pub label: String,
+}
+
+/// A profile plot: series, axis titles and markers.
+///
+/// Both axes are linear. The position axis (`position`) spans the data and
+/// the markers, the other one the data with a 5 % margin; a thin line
+/// marks zero on either axis when it is inside the range. A series of one
+/// point is drawn as a dot.
+#[derive(Clone, Copy, Debug)]
+pub struct ProfilePlot<'a> {
+    /// Title (wrapped when wider than the canvas).
+    pub title: &'a str,
+    /// Title of the x axis, units included (for example `"r (m)"`).
+    pub x_label: &'a str,
+    /// Title of the y axis, units included.
+    pub y_label: &'a str,
+    /// The lines.
+    pub series: &'a [Series],
+    /// Lines or bands with a label (joints crossed by a cut).
+    pub markers: &'a [Marker],
+    /// The axis along the cut: [`Axis::X`], or [`Axis::Y`] for a cut along z.
+    pub position: Axis,
 }
 
 /// A profile along a cut: one Series per body and variant, so a jump at an
-/// interface shows as two separate lines.
+/// interface shows as two separate lines; x is the position.
 ///
-/// `x_label` and `y_label` are the axis titles, units included (for example
-/// `"r (m)"`, `"sigma_z (MPa)"`). Both axes are linear and span the data
-/// (y with a 5 % margin); a thin line marks y = 0 when it is in range. A
-/// series of one point is drawn as a dot. The legend is to the right of the
-/// plot. Any non-finite coordinate is refused with
-/// [`ReportError::NotFinite`] and nothing is written.
+/// Same as [`plot_profile_with`] without markers and with x the position.
 pub fn plot_profile(
     svg: &Path,
     png: &Path,
@@ -93,7 +206,22 @@ pub fn plot_profile(
     y_label: &str,
     series: &[Series],
 ) -> Result<(), ReportError> {
-    for s in series {
+    let plot = ProfilePlot {
+        title,
+        x_label,
+        y_label,
+        series,
+        markers: &[],
+        position: Axis::X,
+    };
+    plot_profile_with(svg, png, &plot)
+}
+
+/// Draws a [`ProfilePlot`]. Any non-finite coordinate (of a point or a
+/// marker) is refused with [`ReportError::NotFinite`] and nothing is
+/// written.
+pub fn plot_profile_with(svg: &Path, png: &Path, plot: &ProfilePlot) -> Result<(), ReportError> {
+    for s in plot.series {
         for (i, &(x, y)) in s.points.iter().enumerate() {
             if !x.is_finite() || !y.is_finite() {
                 return Err(not_finite(
@@ -103,26 +231,28 @@ pub fn plot_profile(
             }
         }
     }
-    let fig = Profile {
-        title,
-        x_label,
-        y_label,
-        series,
-    };
-    write_figure(&fig, svg, png)
+    for m in plot.markers {
+        if !m.from.is_finite() || !m.to.is_finite() {
+            return Err(not_finite(
+                svg,
+                format!("marker '{}' at {} to {}", m.label, m.from, m.to),
+            ));
+        }
+    }
+    write_figure(&Profile(*plot), svg, png)
 }
 
 /// Residual ratio against iteration for several runs on one log y axis (the
 /// paper's Fig. 8).
 ///
-/// Each run is `(legend label, [(iteration, ratio)])`, drawn as a solid line
-/// in colour `PALETTE[k]` for the k-th run; empty runs are skipped. The y
-/// axis spans whole decades around the positive ratios. A ratio <= 0 (a
-/// residual of exactly zero) has no place on a log axis: it is drawn on the
-/// bottom edge of the plot, which is then put one decade below the smallest
-/// positive ratio so that such points stay apart from real ones. A
-/// non-finite ratio is refused with [`ReportError::NotFinite`] and nothing
-/// is written.
+/// Each run is `(legend label, [(iteration, ratio)])`, drawn as a line of
+/// colour slot k for the k-th run (solid for the first 7, see
+/// [`line_styles`]); empty runs are skipped. The y axis spans whole
+/// decades around the positive ratios. A ratio <= 0 (a residual of exactly
+/// zero) has no place on a log axis: it is drawn on the bottom edge of the
+/// plot, which is then put one decade below the smallest positive ratio so
+/// that such points stay apart from real ones. A non-finite ratio is
+/// refused with [`ReportError::NotFinite`] and nothing is written.
 pub fn plot_convergence(
     svg: &Path,
     png: &Path,
@@ -207,12 +337,32 @@ const TITLE_SIZE: u32 = 28;
 const DESC_SIZE: u32 = 22;
 const TICK_SIZE: u32 = 18;
 const LEGEND_SIZE: u32 = 19;
-/// Opacity that marks a dashed line in the SVG pass; replaced afterwards
-/// by `opacity="1"` and a `stroke-dasharray` (plotters' SVG backend has no
-/// dashes of its own).
-const DASH_MARK: f64 = 0.996;
-const DASH_ARRAY: &str = "10 6";
-const DASH: (i32, i32) = (10, 6);
+const MARKER_SIZE: u32 = 17;
+/// Top of the first title line, and the pitch of title lines.
+const TITLE_TOP: u32 = 12;
+const TITLE_LINE: u32 = TITLE_SIZE + 6;
+/// Space between the title and the plot, and the title's side margins.
+const TITLE_GAP: u32 = 12;
+const TITLE_SIDE: u32 = 20;
+/// Height of the plot row (the plot and a legend beside it).
+const BODY_H: u32 = SIZE.1 - (TITLE_TOP + TITLE_SIZE + TITLE_GAP);
+/// Legend: line pitch, space between entries, top of the first entry in a
+/// panel beside the plot, side margins of a legend below it, the widest
+/// panel beside the plot.
+const LEGEND_LINE: u32 = LEGEND_SIZE + 6;
+const LEGEND_GAP: u32 = 8;
+const LEGEND_TOP: u32 = 30;
+const LEGEND_SIDE: u32 = 20;
+const PANEL_MAX: u32 = SIZE.0 * 2 / 5;
+/// Legend swatch length, the space after it, and the space after a label.
+const SAMPLE: u32 = 56;
+const SAMPLE_GAP: u32 = 10;
+const ENTRY_END: u32 = 24;
+/// The SVG pass draws dash pattern `d` with opacity `1 - d * DASH_STEP`,
+/// replaced afterwards by `opacity="1"` and its `stroke-dasharray`
+/// (plotters' SVG backend has no dashes of its own).
+const DASH_STEP: f64 = 1e-6;
+const MAX_SVG_DASH: usize = 99_999;
 
 static FONT_BYTES: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
 
@@ -223,11 +373,74 @@ fn ensure_font(path: &Path) -> Result<(), ReportError> {
     static REGISTERED: OnceLock<bool> = OnceLock::new();
     let ok = *REGISTERED
         .get_or_init(|| plotters::style::register_font(FONT, FontStyle::Normal, FONT_BYTES).is_ok());
-    if ok {
+    if ok && font_ref().is_some() {
         Ok(())
     } else {
         Err(ReportError::write(path, "the embedded font could not be loaded"))
     }
+}
+
+fn font_ref() -> Option<&'static FontRef<'static>> {
+    static FONT_REF: OnceLock<Option<FontRef<'static>>> = OnceLock::new();
+    FONT_REF
+        .get_or_init(|| FontRef::try_from_slice(FONT_BYTES).ok())
+        .as_ref()
+}
+
+/// Width in pixels of `text` at `size`: advances and kerning of the
+/// embedded font, as plotters estimates text and the PNG draws it.
+fn text_width(text: &str, size: u32) -> f64 {
+    let Some(font) = font_ref() else {
+        return 0.0;
+    };
+    let font = font.as_scaled(size as f32);
+    let mut w = 0.0f32;
+    let mut prev = None;
+    for c in text.chars() {
+        let id = font.glyph_id(c);
+        if let Some(p) = prev {
+            w += font.kern(p, id);
+        }
+        w += font.h_advance(id);
+        prev = Some(id);
+    }
+    f64::from(w).ceil()
+}
+
+/// `text` broken at spaces into lines at most `max` pixels wide at `size`;
+/// a word wider than `max` is broken between characters. Joining the lines
+/// with spaces gives `text` back when no word was broken.
+fn wrap(text: &str, size: u32, max: f64) -> Vec<String> {
+    let mut lines = Vec::new();
+    let mut line = String::new();
+    for word in text.split(' ') {
+        let candidate = if line.is_empty() {
+            word.to_owned()
+        } else {
+            format!("{line} {word}")
+        };
+        if text_width(&candidate, size) <= max {
+            line = candidate;
+            continue;
+        }
+        if !line.is_empty() {
+            lines.push(std::mem::take(&mut line));
+        }
+        line = word.to_owned();
+        while text_width(&line, size) > max {
+            let chars: Vec<char> = line.chars().collect();
+            let mut n = 1;
+            while n < chars.len() && text_width(&chars[..=n].iter().collect::<String>(), size) <= max {
+                n += 1;
+            }
+            lines.push(chars[..n].iter().collect());
+            line = chars[n..].iter().collect();
+        }
+    }
+    if !line.is_empty() || lines.is_empty() {
+        lines.push(line);
+    }
+    lines
 }
 
 fn not_finite(path: &Path, what: String) -> ReportError {
@@ -237,50 +450,199 @@ fn not_finite(path: &Path, what: String) -> ReportError {
     }
 }
 
-/// A figure drawn the same way on either backend; `svg` selects how dashes
-/// are made.
+/// How a legend entry is shown.
+#[derive(Clone)]
+enum Swatch {
+    Line(LineStyle),
+    Box(RGBColor),
+}
+
+struct Entry {
+    label: String,
+    swatch: Swatch,
+}
+
+/// A legend entry placed on the canvas: its lines of text from `(x, y)`
+/// (top left of the entry).
+struct Placed {
+    lines: Vec<String>,
+    swatch: Swatch,
+    x: i32,
+    y: i32,
+}
+
+/// Where everything goes on the canvas.
+struct Layout {
+    size: (u32, u32),
+    title: Vec<String>,
+    /// Top of the plot row.
+    body_top: u32,
+    /// Width of the legend panel right of the plot (a margin when the
+    /// legend is below or empty).
+    panel: u32,
+    legend: Vec<Placed>,
+}
+
+/// Lays out the title and the legend (see the module documentation).
+fn layout(title: &str, entries: Vec<Entry>) -> Layout {
+    let (w, _) = SIZE;
+    let title = wrap(title, TITLE_SIZE, f64::from(w - 2 * TITLE_SIDE));
+    let body_top = TITLE_TOP + TITLE_SIZE + (title.len() as u32 - 1) * TITLE_LINE + TITLE_GAP;
+    let widths: Vec<u32> = entries
+        .iter()
+        .map(|e| text_width(&e.label, LEGEND_SIZE) as u32)
+        .collect();
+    let widest = widths.iter().copied().max().unwrap_or(0);
+    let entry_h = LEGEND_LINE + LEGEND_GAP;
+    let beside = widest + SAMPLE + SAMPLE_GAP + 8 + ENTRY_END;
+    let fits_beside = beside <= PANEL_MAX && LEGEND_TOP + entries.len() as u32 * entry_h <= BODY_H;
+    if entries.is_empty() || fits_beside {
+        let panel = if entries.is_empty() { 20 } else { beside.max(120) };
+        let x = (w - panel + 8) as i32;
+        let legend = entries
+            .into_iter()
+            .enumerate()
+            .map(|(k, e)| Placed {
+                lines: vec![e.label],
+                swatch: e.swatch,
+                x,
+                y: (body_top + LEGEND_TOP + k as u32 * entry_h) as i32,
+            })
+            .collect();
+        return Layout {
+            size: (w, body_top + BODY_H),
+            title,
+            body_top,
+            panel,
+            legend,
+        };
+    }
+    // Below the plot: as many columns as the widest label allows.
+    let avail = w - 2 * LEGEND_SIDE;
+    let need = widest + SAMPLE + SAMPLE_GAP + ENTRY_END;
+    let cols = ((avail / need.max(1)) as usize).clamp(1, entries.len());
+    let col_w = avail / cols as u32;
+    let text_max = f64::from(col_w - SAMPLE - SAMPLE_GAP - ENTRY_END);
+    let mut legend = Vec::with_capacity(entries.len());
+    let mut y = body_top + BODY_H + LEGEND_GAP;
+    for row in entries.chunks(cols) {
+        let mut tallest = 1;
+        for (c, e) in row.iter().enumerate() {
+            let lines = wrap(&e.label, LEGEND_SIZE, text_max);
+            tallest = tallest.max(lines.len() as u32);
+            legend.push(Placed {
+                lines,
+                swatch: e.swatch.clone(),
+                x: (LEGEND_SIDE + c as u32 * col_w) as i32,
+                y: y as i32,
+            });
+        }
+        y += tallest * LEGEND_LINE + LEGEND_GAP;
+    }
+    Layout {
+        size: (w, (y + LEGEND_GAP).max(SIZE.1)),
+        title,
+        body_top,
+        panel: 20,
+        legend,
+    }
+}
+
+/// A figure drawn the same way on either backend.
 trait Figure {
-    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>, svg: bool) -> Result<(), String>;
+    fn title(&self) -> &str;
+    /// The legend entries.
+    fn entries(&self) -> Vec<Entry>;
+    /// Draws the plot into `plot` (a part of `root`); `svg` selects how
+    /// dashes are made.
+    fn draw_plot<DB: DrawingBackend>(
+        &self,
+        root: &Area<DB>,
+        plot: &Area<DB>,
+        svg: bool,
+    ) -> Result<(), String>;
+}
+
+/// A drawing area in backend pixels.
+type Area<DB> = DrawingArea<DB, Shift>;
+
+/// Draws the title, the plot and the legend.
+fn draw_all<DB: DrawingBackend>(
+    fig: &impl Figure,
+    lay: &Layout,
+    root: &Area<DB>,
+    svg: bool,
+) -> Result<(), String> {
+    root.fill(&WHITE).map_err(err)?;
+    let (w, _) = lay.size;
+    let style = font(TITLE_SIZE).pos(Pos::new(HPos::Center, VPos::Top));
+    for (i, line) in lay.title.iter().enumerate().filter(|(_, l)| !l.is_empty()) {
+        let y = (TITLE_TOP + i as u32 * TITLE_LINE) as i32;
+        root.draw(&Text::new(line.as_str(), (w as i32 / 2, y), style.clone()))
+            .map_err(err)?;
+    }
+    let plot = root.clone().shrink((0, lay.body_top), (w - lay.panel, BODY_H));
+    fig.draw_plot(root, &plot, svg)?;
+    draw_legend(root, &lay.legend, svg)
 }
 
 fn write_figure(fig: &impl Figure, svg: &Path, png: &Path) -> Result<(), ReportError> {
     ensure_font(svg)?;
+    let lay = layout(fig.title(), fig.entries());
     let mut doc = String::new();
     {
-        let root = SVGBackend::with_string(&mut doc, SIZE).into_drawing_area();
-        fig.draw(&root, true).map_err(|e| ReportError::write(svg, e))?;
+        let root = SVGBackend::with_string(&mut doc, lay.size).into_drawing_area();
+        draw_all(fig, &lay, &root, true).map_err(|e| ReportError::write(svg, e))?;
         root.present().map_err(|e| ReportError::write(svg, e))?;
     }
     let doc = svg_dashes(&doc);
-    let (w, h) = SIZE;
+    let (w, h) = lay.size;
     let mut rgb = vec![255u8; w as usize * h as usize * 3];
     {
-        let bitmap = BitMapBackend::with_buffer(&mut rgb, SIZE);
+        let bitmap = BitMapBackend::with_buffer(&mut rgb, lay.size);
         let root = Smooth::new(bitmap)
             .map_err(|e| ReportError::write(png, e))?
             .into_drawing_area();
-        fig.draw(&root, false).map_err(|e| ReportError::write(png, e))?;
+        draw_all(fig, &lay, &root, false).map_err(|e| ReportError::write(png, e))?;
         root.present().map_err(|e| ReportError::write(png, e))?;
     }
-    let image = encode_png(&rgb, SIZE).map_err(|e| ReportError::write(png, e))?;
+    let image = encode_png(&rgb, lay.size).map_err(|e| ReportError::write(png, e))?;
     write_atomic(svg, doc.as_bytes())?;
     write_atomic(png, &image)
 }
 
-/// Turns the polylines drawn with the [`DASH_MARK`] opacity into dashed ones.
+/// Turns the data polylines drawn with a dash opacity (see [`DASH_STEP`])
+/// into dashed ones.
 fn svg_dashes(doc: &str) -> String {
-    let mark = format!(" opacity=\"{DASH_MARK}\"");
-    let dashed = format!(" opacity=\"1\" stroke-dasharray=\"{DASH_ARRAY}\"");
+    let width = format!(" stroke-width=\"{LINE_WIDTH}\"");
     let mut out = String::with_capacity(doc.len() + 1024);
     for line in doc.lines() {
-        if line.starts_with("<polyline ") && line.contains(&mark) {
-            out.push_str(&line.replacen(&mark, &dashed, 1));
+        let dashed = if line.starts_with("<polyline ") && line.contains(&width) {
+            opacity(line).filter(|(_, a)| (0.9..1.0).contains(a))
         } else {
-            out.push_str(line);
+            None
+        };
+        match dashed {
+            Some((attr, a)) => {
+                let d = ((1.0 - a) / DASH_STEP).round() as usize;
+                let pattern: Vec<String> = dash_pattern(d).iter().map(u32::to_string).collect();
+                let new = format!(" opacity=\"1\" stroke-dasharray=\"{}\"", pattern.join(" "));
+                out.push_str(&line.replacen(&attr, &new, 1));
+            }
+            None => out.push_str(line),
         }
         out.push('\n');
     }
     out
+}
+
+/// The ` opacity="..."` attribute of an SVG line and its value.
+fn opacity(line: &str) -> Option<(String, f64)> {
+    let start = line.find(" opacity=\"")?;
+    let value_start = start + " opacity=\"".len();
+    let end = value_start + line[value_start..].find('"')?;
+    let value = line[value_start..end].parse().ok()?;
+    Some((line[start..=end].to_owned(), value))
 }
 
 fn encode_png(rgb: &[u8], (w, h): (u32, u32)) -> Result<Vec<u8>, png::EncodingError> {
@@ -321,11 +683,7 @@ struct Smooth<B> {
 
 impl<B: DrawingBackend> Smooth<B> {
     fn new(inner: B) -> Result<Self, &'static str> {
-        static FONT_REF: OnceLock<Option<FontRef<'static>>> = OnceLock::new();
-        let font = FONT_REF
-            .get_or_init(|| FontRef::try_from_slice(FONT_BYTES).ok())
-            .as_ref()
-            .ok_or("the embedded font could not be loaded")?;
+        let font = font_ref().ok_or("the embedded font could not be loaded")?;
         Ok(Smooth { inner, font })
     }
 
@@ -526,10 +884,6 @@ fn rgb((r, g, b): (u8, u8, u8)) -> RGBColor {
     RGBColor(r, g, b)
 }
 
-fn palette(i: usize) -> RGBColor {
-    rgb(PALETTE[i % PALETTE.len()])
-}
-
 fn font(size: u32) -> TextStyle<'static> {
     TextStyle::from((FONT, size).into_font()).color(&BLACK)
 }
@@ -574,108 +928,101 @@ fn padded((lo, hi): (f64, f64), margin: f64) -> (f64, f64) {
     }
 }
 
-/// How a legend entry is shown.
-enum Mark {
-    Line { color: RGBColor, dashed: bool },
-    Box(RGBColor),
-}
-
-struct Entry<'a> {
-    label: &'a str,
-    mark: Mark,
-}
-
-const SAMPLE: i32 = 44;
-
-/// Splits `area` into the plot (left) and the legend panel (right), the
-/// panel as wide as the longest label needs, at most 40 % of the width.
-fn split_legend<DB: DrawingBackend>(
-    area: &DrawingArea<DB, Shift>,
-    entries: &[Entry],
-) -> Result<(Area<DB>, Area<DB>), String> {
-    let style = font(LEGEND_SIZE);
-    let mut text_w = 0u32;
-    for e in entries {
-        text_w = text_w.max(area.estimate_text_size(e.label, &style).map_err(err)?.0);
-    }
-    let (w, _) = area.dim_in_pixel();
-    let panel = if entries.is_empty() {
-        20
-    } else {
-        (text_w + SAMPLE as u32 + 40).clamp(120, w * 2 / 5)
-    };
-    Ok(area.split_horizontally(w - panel))
-}
-
-/// Draws the legend entries from the top of `panel`, one per line.
-fn draw_legend<DB: DrawingBackend>(
-    root: &DrawingArea<DB, Shift>,
-    panel: &DrawingArea<DB, Shift>,
-    entries: &[Entry],
-    svg: bool,
-) -> Result<(), String> {
-    let (xr, yr) = panel.get_pixel_range();
-    let x = xr.start + 8;
-    let step = LEGEND_SIZE as i32 + 12;
+/// Draws the placed legend entries: swatch, then the lines of the label.
+fn draw_legend<DB: DrawingBackend>(root: &Area<DB>, legend: &[Placed], svg: bool) -> Result<(), String> {
     let style = font(LEGEND_SIZE).pos(Pos::new(HPos::Left, VPos::Center));
-    for (k, e) in entries.iter().enumerate() {
-        let y = yr.start + 40 + k as i32 * step;
-        let text_x = match e.mark {
-            Mark::Line { color, dashed } => {
-                draw_path(root, vec![(x, y), (x + SAMPLE, y)], color, dashed, svg)?;
-                x + SAMPLE + 10
-            }
-            Mark::Box(color) => {
+    let half = LEGEND_LINE as i32 / 2;
+    for e in legend {
+        let (x, y) = (e.x, e.y + half);
+        match &e.swatch {
+            Swatch::Line(line) => draw_path(root, vec![(x, y), (x + SAMPLE as i32, y)], line, svg)?,
+            Swatch::Box(color) => {
                 let h = LEGEND_SIZE as i32 / 2;
                 root.draw(&Rectangle::new([(x, y - h), (x + 3 * h, y + h)], color.filled()))
                     .map_err(err)?;
-                x + 3 * h + 10
             }
-        };
-        root.draw(&Text::new(e.label, (text_x, y), style.clone()))
-            .map_err(err)?;
+        }
+        let text_x = x + (SAMPLE + SAMPLE_GAP) as i32;
+        for (j, line) in e.lines.iter().enumerate().filter(|(_, l)| !l.is_empty()) {
+            let at = (text_x, y + j as i32 * LEGEND_LINE as i32);
+            root.draw(&Text::new(line.as_str(), at, style.clone()))
+                .map_err(err)?;
+        }
     }
     Ok(())
+}
+
+/// The pieces of the polyline `path` that are "on" in the dash `pattern`
+/// (pixel lengths, on then off), the pattern running on over the corners.
+fn dash_pieces(path: &[(i32, i32)], pattern: &[u32]) -> Vec<Vec<(i32, i32)>> {
+    if pattern.iter().sum::<u32>() == 0 || path.len() < 2 {
+        return vec![path.to_vec()];
+    }
+    let round = |p: (f64, f64)| (p.0.round() as i32, p.1.round() as i32);
+    let mut pieces = Vec::new();
+    let mut k = 0;
+    let mut left = f64::from(pattern[0]);
+    let start = (f64::from(path[0].0), f64::from(path[0].1));
+    let mut piece = vec![round(start)];
+    for w in path.windows(2) {
+        let (a, b) = (
+            (f64::from(w[0].0), f64::from(w[0].1)),
+            (f64::from(w[1].0), f64::from(w[1].1)),
+        );
+        let len = (b.0 - a.0).hypot(b.1 - a.1);
+        let mut at = 0.0;
+        while len - at > left {
+            at += left;
+            let p = round((a.0 + (b.0 - a.0) * at / len, a.1 + (b.1 - a.1) * at / len));
+            if k % 2 == 0 {
+                piece.push(p);
+                pieces.push(std::mem::take(&mut piece));
+            } else {
+                piece = vec![p];
+            }
+            k = (k + 1) % pattern.len();
+            left = f64::from(pattern[k]);
+        }
+        left -= len - at;
+        if k % 2 == 0 {
+            piece.push(w[1]);
+        }
+    }
+    if k % 2 == 0 && piece.len() >= 2 {
+        pieces.push(piece);
+    }
+    pieces
 }
 
 /// A data line in backend pixels: one `<polyline>` in the SVG (dashed by
 /// [`svg_dashes`]), dashes drawn in the bitmap; one point draws a dot too.
 fn draw_path<DB: DrawingBackend>(
-    root: &DrawingArea<DB, Shift>,
+    root: &Area<DB>,
     pixels: Vec<(i32, i32)>,
-    color: RGBColor,
-    dashed: bool,
+    line: &LineStyle,
     svg: bool,
 ) -> Result<(), String> {
+    let color = rgb(line.rgb);
     if pixels.len() == 1 {
         root.draw(&Circle::new(pixels[0], 4, color.filled()))
             .map_err(err)?;
     }
     let style = ShapeStyle::from(&color).stroke_width(LINE_WIDTH);
-    if !dashed {
+    if line.dash == 0 {
         root.draw(&PathElement::new(pixels, style)).map_err(err)
     } else if svg {
-        let marked = ShapeStyle::from(color.mix(DASH_MARK)).stroke_width(LINE_WIDTH);
+        let mark = 1.0 - line.dash.min(MAX_SVG_DASH) as f64 * DASH_STEP;
+        let marked = ShapeStyle::from(color.mix(mark)).stroke_width(LINE_WIDTH);
         root.draw(&PathElement::new(pixels, marked)).map_err(err)
     } else {
-        root.draw(&DashedPathElement::new(pixels, DASH.0, DASH.1, style))
-            .map_err(err)
+        for piece in dash_pieces(&pixels, &dash_pattern(line.dash)) {
+            root.draw(&PathElement::new(piece, style)).map_err(err)?;
+        }
+        Ok(())
     }
 }
 
-/// Draws `title` centred at the top of `root`; returns the area below it.
-fn titled<DB: DrawingBackend>(
-    root: &DrawingArea<DB, Shift>,
-    title: &str,
-) -> Result<DrawingArea<DB, Shift>, String> {
-    let (w, _) = root.dim_in_pixel();
-    let style = font(TITLE_SIZE).pos(Pos::new(HPos::Center, VPos::Top));
-    root.draw(&Text::new(title, (w as i32 / 2, 12), style))
-        .map_err(err)?;
-    Ok(root.margin(12 + TITLE_SIZE as i32 + 12, 0, 0, 0))
-}
-
-fn chart_builder<'a, 'b, DB: DrawingBackend>(area: &'a DrawingArea<DB, Shift>) -> ChartBuilder<'a, 'b, DB> {
+fn chart_builder<'a, 'b, DB: DrawingBackend>(area: &'a Area<DB>) -> ChartBuilder<'a, 'b, DB> {
     let mut b = ChartBuilder::on(area);
     b.margin_top(10)
         .margin_left(10)
@@ -686,39 +1033,71 @@ fn chart_builder<'a, 'b, DB: DrawingBackend>(area: &'a DrawingArea<DB, Shift>) -
     b
 }
 
-struct Profile<'a> {
-    title: &'a str,
-    x_label: &'a str,
-    y_label: &'a str,
-    series: &'a [Series],
+/// The legend entries of `series` (the non-empty ones) with their styles.
+fn series_entries(series: &[&Series], styles: &[LineStyle]) -> Vec<Entry> {
+    series
+        .iter()
+        .zip(styles)
+        .map(|(s, st)| Entry {
+            label: s.label.clone(),
+            swatch: Swatch::Line(st.clone()),
+        })
+        .collect()
+}
+
+struct Profile<'a>(ProfilePlot<'a>);
+
+impl Profile<'_> {
+    fn shown(&self) -> Vec<&Series> {
+        self.0.series.iter().filter(|s| !s.points.is_empty()).collect()
+    }
+
+    fn styles(&self) -> Vec<LineStyle> {
+        let keys: Vec<(usize, usize)> = self.shown().iter().map(|s| (s.color, s.dash)).collect();
+        line_styles(&keys)
+    }
 }
 
 impl Figure for Profile<'_> {
-    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>, svg: bool) -> Result<(), String> {
-        root.fill(&WHITE).map_err(err)?;
-        let body = titled(root, self.title)?;
-        let shown: Vec<&Series> = self.series.iter().filter(|s| !s.points.is_empty()).collect();
-        let entries: Vec<Entry> = shown
-            .iter()
-            .map(|s| Entry {
-                label: &s.label,
-                mark: Mark::Line {
-                    color: palette(s.color),
-                    dashed: s.dashed,
-                },
-            })
-            .collect();
-        let (plot, panel) = split_legend(&body, &entries)?;
+    fn title(&self) -> &str {
+        self.0.title
+    }
+
+    fn entries(&self) -> Vec<Entry> {
+        series_entries(&self.shown(), &self.styles())
+    }
+
+    fn draw_plot<DB: DrawingBackend>(
+        &self,
+        root: &Area<DB>,
+        plot: &Area<DB>,
+        svg: bool,
+    ) -> Result<(), String> {
+        let p = &self.0;
+        let shown = self.shown();
+        let styles = self.styles();
         let points = || shown.iter().flat_map(|s| s.points.iter().copied());
-        let (x0, x1) = padded(extent(points().map(|p| p.0)).unwrap_or((0.0, 1.0)), 0.0);
-        let (y0, y1) = padded(extent(points().map(|p| p.1)).unwrap_or((0.0, 1.0)), 0.05);
-        let mut chart = chart_builder(&plot)
+        let marks = || p.markers.iter().flat_map(|m| [m.from, m.to]);
+        let along = |q: (f64, f64)| if p.position == Axis::X { q.0 } else { q.1 };
+        let across = |q: (f64, f64)| if p.position == Axis::X { q.1 } else { q.0 };
+        let pos = extent(points().map(along).chain(marks())).unwrap_or((0.0, 1.0));
+        // A marker at an end of the range gets a little room.
+        let span = pos.1 - pos.0;
+        let at_end = marks().any(|m| (m - pos.0).abs() <= 0.01 * span || (pos.1 - m).abs() <= 0.01 * span);
+        let pos = padded(pos, if at_end { 0.02 } else { 0.0 });
+        let val = padded(extent(points().map(across)).unwrap_or((0.0, 1.0)), 0.05);
+        let ((x0, x1), (y0, y1)) = if p.position == Axis::X {
+            (pos, val)
+        } else {
+            (val, pos)
+        };
+        let mut chart = chart_builder(plot)
             .build_cartesian_2d(x0..x1, y0..y1)
             .map_err(err)?;
         chart
             .configure_mesh()
-            .x_desc(self.x_label)
-            .y_desc(self.y_label)
+            .x_desc(p.x_label)
+            .y_desc(p.y_label)
             .x_label_formatter(&|v| tick(*v))
             .y_label_formatter(&|v| tick(*v))
             .axis_desc_style(font(DESC_SIZE))
@@ -730,52 +1109,178 @@ impl Figure for Profile<'_> {
             let zero = vec![chart.backend_coord(&(x0, 0.0)), chart.backend_coord(&(x1, 0.0))];
             root.draw(&PathElement::new(zero, BLACK.mix(0.6))).map_err(err)?;
         }
-        for s in &shown {
-            let pixels = s.points.iter().map(|p| chart.backend_coord(p)).collect();
-            draw_path(root, pixels, palette(s.color), s.dashed, svg)?;
+        if x0 < 0.0 && 0.0 < x1 {
+            let zero = vec![chart.backend_coord(&(0.0, y0)), chart.backend_coord(&(0.0, y1))];
+            root.draw(&PathElement::new(zero, BLACK.mix(0.6))).map_err(err)?;
         }
-        draw_legend(root, &panel, &entries, svg)
+        let to_px = |m: f64| match p.position {
+            Axis::X => chart.backend_coord(&(m, y0)).0,
+            Axis::Y => chart.backend_coord(&(x0, m)).1,
+        };
+        let (xr, yr) = chart.plotting_area().get_pixel_range();
+        let frame = (xr.start, xr.end - 1, yr.start, yr.end - 1);
+        for m in p.markers {
+            draw_marker(root, m.axis, to_px(m.from), to_px(m.to), frame)?;
+        }
+        for (s, st) in shown.iter().zip(&styles) {
+            let pixels = s.points.iter().map(|q| chart.backend_coord(q)).collect();
+            draw_path(root, pixels, st, svg)?;
+        }
+        let labels: Vec<(Axis, i32, &str)> = p
+            .markers
+            .iter()
+            .map(|m| (m.axis, (to_px(m.from) + to_px(m.to)) / 2, m.label.as_str()))
+            .collect();
+        draw_marker_labels(root, &labels, frame)
     }
+}
+
+/// A marker's band (light, at least 6 px wide) and centre line across the
+/// plot `frame` = (left, right, top, bottom) pixels; `a`, `b` are pixel
+/// positions along `axis`.
+fn draw_marker<DB: DrawingBackend>(
+    root: &Area<DB>,
+    axis: Axis,
+    a: i32,
+    b: i32,
+    (left, right, top, bottom): (i32, i32, i32, i32),
+) -> Result<(), String> {
+    let (lo, hi) = (a.min(b), a.max(b));
+    let (lo, hi) = if hi - lo < 6 {
+        let c = (lo + hi) / 2;
+        (c - 3, c + 3)
+    } else {
+        (lo, hi)
+    };
+    let c = (a + b) / 2;
+    let color = rgb(MARKER_COLOR);
+    let (band, line) = match axis {
+        Axis::X => ([(lo, top), (hi, bottom)], vec![(c, top), (c, bottom)]),
+        Axis::Y => ([(left, lo), (right, hi)], vec![(left, c), (right, c)]),
+    };
+    root.draw(&Rectangle::new(band, color.mix(0.15).filled()))
+        .map_err(err)?;
+    root.draw(&PathElement::new(line, color)).map_err(err)
+}
+
+/// The labels of markers at pixel position `at` along their axis, inside
+/// the plot `frame`: beside a line across x, near the top (moved down a
+/// row where it would overlap another); above a line across y, near the
+/// right edge (moved left where it would overlap). On a white box.
+fn draw_marker_labels<DB: DrawingBackend>(
+    root: &Area<DB>,
+    labels: &[(Axis, i32, &str)],
+    (left, right, top, bottom): (i32, i32, i32, i32),
+) -> Result<(), String> {
+    let h = MARKER_SIZE as i32;
+    let color = rgb(MARKER_COLOR);
+    let style = font(MARKER_SIZE)
+        .color(&color)
+        .pos(Pos::new(HPos::Left, VPos::Top));
+    let mut boxes: Vec<[i32; 4]> = Vec::new();
+    let overlaps = |b: &[i32; 4], boxes: &[[i32; 4]]| {
+        boxes
+            .iter()
+            .any(|o| b[0] < o[1] + 4 && o[0] < b[1] + 4 && b[2] < o[3] + 2 && o[2] < b[3] + 2)
+    };
+    for &(axis, at, label) in labels.iter().filter(|l| !l.2.is_empty()) {
+        let w = text_width(label, MARKER_SIZE) as i32;
+        let mut b = match axis {
+            Axis::X => {
+                let x = if at + 5 + w <= right - 2 {
+                    at + 5
+                } else {
+                    (at - 5 - w).max(left + 2)
+                };
+                [x, x + w, top + 4, top + 4 + h]
+            }
+            Axis::Y => {
+                let y = if at - 4 - h >= top + 2 { at - 4 - h } else { at + 4 };
+                [right - 4 - w, right - 4, y, y + h]
+            }
+        };
+        let mut tries = 0;
+        while overlaps(&b, &boxes) && tries < 100 {
+            match axis {
+                Axis::X => {
+                    b[2] += h + 4;
+                    b[3] += h + 4;
+                }
+                Axis::Y => {
+                    b[0] -= w + 12;
+                    b[1] -= w + 12;
+                }
+            }
+            tries += 1;
+        }
+        // Kept inside the plot (and so inside the canvas).
+        let dx = (left + 2 - b[0]).max(0) - (b[1] - (right - 2)).max(0);
+        let dy = (top + 2 - b[2]).max(0) - (b[3] - (bottom - 2)).max(0);
+        let b = [b[0] + dx, b[1] + dx, b[2] + dy, b[3] + dy];
+        boxes.push(b);
+        root.draw(&Rectangle::new(
+            [(b[0] - 2, b[2] - 1), (b[1] + 2, b[3] + 1)],
+            WHITE.mix(0.85).filled(),
+        ))
+        .map_err(err)?;
+        root.draw(&Text::new(label, (b[0], b[2]), style.clone()))
+            .map_err(err)?;
+    }
+    Ok(())
 }
 
 /// A run of [`plot_convergence`]: label and `(iteration, ratio)`.
 type Run = (String, Vec<(u32, f64)>);
-
-/// A drawing area in backend pixels.
-type Area<DB> = DrawingArea<DB, Shift>;
 
 struct Convergence<'a> {
     title: &'a str,
     runs: &'a [Run],
 }
 
-impl Figure for Convergence<'_> {
-    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>, svg: bool) -> Result<(), String> {
-        root.fill(&WHITE).map_err(err)?;
-        let body = titled(root, self.title)?;
-        let shown: Vec<(usize, &Run)> = self
-            .runs
+impl Convergence<'_> {
+    fn shown(&self) -> Vec<(usize, &Run)> {
+        self.runs
             .iter()
             .enumerate()
             .filter(|(_, r)| !r.1.is_empty())
-            .collect();
-        let entries: Vec<Entry> = shown
+            .collect()
+    }
+
+    fn styles(&self) -> Vec<LineStyle> {
+        let keys: Vec<(usize, usize)> = self.shown().iter().map(|(k, _)| (*k, 0)).collect();
+        line_styles(&keys)
+    }
+}
+
+impl Figure for Convergence<'_> {
+    fn title(&self) -> &str {
+        self.title
+    }
+
+    fn entries(&self) -> Vec<Entry> {
+        self.shown()
             .iter()
-            .map(|(k, (label, _))| Entry {
-                label,
-                mark: Mark::Line {
-                    color: palette(*k),
-                    dashed: false,
-                },
+            .zip(self.styles())
+            .map(|((_, (label, _)), st)| Entry {
+                label: label.clone(),
+                swatch: Swatch::Line(st),
             })
-            .collect();
-        let (plot, panel) = split_legend(&body, &entries)?;
+            .collect()
+    }
+
+    fn draw_plot<DB: DrawingBackend>(
+        &self,
+        root: &Area<DB>,
+        plot: &Area<DB>,
+        svg: bool,
+    ) -> Result<(), String> {
+        let shown = self.shown();
         let all = || shown.iter().flat_map(|(_, r)| r.1.iter().copied());
         let (i0, i1) = (0, all().map(|p| p.0).max().unwrap_or(1).max(1));
         let positive = extent(all().map(|p| p.1).filter(|&r| r > 0.0));
         let any_clipped = all().any(|p| p.1 <= 0.0);
         let (y0, y1) = log_range(positive, any_clipped);
-        let mut chart = chart_builder(&plot)
+        let mut chart = chart_builder(plot)
             .build_cartesian_2d(i0..i1, (y0..y1).log_scale())
             .map_err(err)?;
         chart
@@ -804,17 +1309,16 @@ impl Figure for Convergence<'_> {
             root.draw(&Text::new(tick(v), (px - 10, py), label.clone()))
                 .map_err(err)?;
         }
-        for (k, (_, points)) in &shown {
+        for ((_, (_, points)), st) in shown.iter().zip(self.styles()) {
             let pixels = points
                 .iter()
                 .map(|&(it, r)| chart.backend_coord(&(it, if r > 0.0 { r } else { y0 })))
                 .collect();
-            draw_path(root, pixels, palette(*k), false, svg)?;
+            draw_path(root, pixels, &st, svg)?;
         }
-        draw_legend(root, &panel, &entries, svg)
+        Ok(())
     }
 }
-
 /// Ticks of a log axis from `y0` to `y1` (both powers of ten): each decade,
 /// plus 2 and 5 times it when the range is 3 decades or less; `true` marks
 /// the decades.
@@ -883,18 +1387,27 @@ fn state_color(s: JointState) -> RGBColor {
 }
 
 impl Figure for JointMap<'_> {
-    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>, _svg: bool) -> Result<(), String> {
-        root.fill(&WHITE).map_err(err)?;
-        let body = titled(root, self.title)?;
-        let entries: Vec<Entry> = STATE_COLORS
+    fn title(&self) -> &str {
+        self.title
+    }
+
+    fn entries(&self) -> Vec<Entry> {
+        STATE_COLORS
             .iter()
             .zip(STATE_LABELS)
             .map(|((_, c), label)| Entry {
-                label,
-                mark: Mark::Box(rgb(*c)),
+                label: label.to_owned(),
+                swatch: Swatch::Box(rgb(*c)),
             })
-            .collect();
-        let (plot, panel) = split_legend(&body, &entries)?;
+            .collect()
+    }
+
+    fn draw_plot<DB: DrawingBackend>(
+        &self,
+        root: &Area<DB>,
+        plot: &Area<DB>,
+        _svg: bool,
+    ) -> Result<(), String> {
         let (xe, te) = (edges(self.s), edges(self.theta));
         let (x0, x1) = match (xe.first(), xe.last()) {
             (Some(&a), Some(&b)) => (a, b),
@@ -904,7 +1417,7 @@ impl Figure for JointMap<'_> {
             (Some(&a), Some(&b)) => (a, b),
             _ => (0.0, 180.0),
         };
-        let mut chart = chart_builder(&plot)
+        let mut chart = chart_builder(plot)
             .build_cartesian_2d(x0..x1, y0..y1)
             .map_err(err)?;
         chart
@@ -951,7 +1464,7 @@ impl Figure for JointMap<'_> {
                     .map_err(err)?;
             }
         }
-        draw_legend(root, &panel, &entries, false)
+        Ok(())
     }
 }
 
@@ -985,6 +1498,58 @@ mod tests {
         let t = log_ticks(1e-5, 1.0);
         assert_eq!(t.len(), 6);
         assert!(t.iter().all(|t| t.1));
+    }
+
+    #[test]
+    fn wrapped_lines_fit_and_give_the_text_back() {
+        let text = "theta 180 deg, a body with a long name, without joint";
+        let max = text_width(text, LEGEND_SIZE) / 2.5;
+        let lines = wrap(text, LEGEND_SIZE, max);
+        assert!(lines.len() >= 3, "{lines:?}");
+        assert!(lines.iter().all(|l| text_width(l, LEGEND_SIZE) <= max));
+        assert_eq!(lines.join(" "), text);
+        assert_eq!(wrap(text, LEGEND_SIZE, 1e4), [text]);
+        // One word wider than the line: broken between characters.
+        let word = "x".repeat(60);
+        let lines = wrap(&word, LEGEND_SIZE, 100.0);
+        assert!(lines.len() > 1 && lines.iter().all(|l| text_width(l, LEGEND_SIZE) <= 100.0));
+        assert_eq!(lines.concat(), word);
+    }
+
+    #[test]
+    fn dashes_follow_the_pattern_over_corners() {
+        let pieces = dash_pieces(&[(0, 0), (100, 0)], &[10, 6]);
+        let want: Vec<Vec<(i32, i32)>> = (0..7)
+            .map(|k| vec![(16 * k, 0), ((16 * k + 10).min(100), 0)])
+            .collect();
+        assert_eq!(pieces, want);
+        // The first dash turns the corner at 5 px; the second starts 6 px later.
+        let pieces = dash_pieces(&[(0, 0), (5, 0), (5, 20)], &[10, 6]);
+        assert_eq!(pieces, [vec![(0, 0), (5, 0), (5, 5)], vec![(5, 11), (5, 20)]]);
+        assert_eq!(dash_pieces(&[(0, 0), (9, 9)], &[]), [vec![(0, 0), (9, 9)]]);
+    }
+
+    #[test]
+    fn styles_are_distinct_for_any_requests() {
+        let requests: Vec<(usize, usize)> = (0..60).map(|k| (k % 3, k % 2)).collect();
+        let styles = line_styles(&requests);
+        let distinct: std::collections::HashSet<_> = styles.iter().collect();
+        assert_eq!(distinct.len(), 60);
+        // The first round of the palette keeps the requested dash; the next moves on.
+        let s = line_styles(&[(0, 0), (0, 1), (6, 1), (7, 0), (7, 1)]);
+        let got: Vec<((u8, u8, u8), usize)> = s.iter().map(|s| (s.rgb, s.dash)).collect();
+        assert_eq!(
+            got,
+            [
+                (PALETTE[0], 0),
+                (PALETTE[0], 1),
+                (PALETTE[6], 1),
+                (PALETTE[0], 2),
+                (PALETTE[0], 3)
+            ]
+        );
+        let patterns: std::collections::HashSet<Vec<u32>> = (0..50).map(dash_pattern).collect();
+        assert_eq!(patterns.len(), 50);
     }
 
     #[test]

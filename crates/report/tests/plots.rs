@@ -2,15 +2,24 @@
 //! (roxmltree), the PNG decoded (png).
 //!
 //! What plotters emits, and these tests rely on: one `<text>` per string
-//! drawn (title, axis titles, tick labels, legend labels), one `<polyline>`
-//! per path. Grid, axis and tick lines are polylines of stroke-width 1; the
-//! data lines are the only polylines of stroke-width [`LINE_WIDTH`] (2): one
-//! per non-empty series in the plot (as many points as the series) and one
-//! of two points as its legend sample. Joint-map cells are filled `<rect>`s.
+//! drawn (title lines, axis titles, tick labels, legend label lines, marker
+//! labels), one `<polyline>` per path. Grid, axis, tick and marker lines are
+//! polylines of stroke-width 1; the data lines are the only polylines of
+//! stroke-width [`LINE_WIDTH`] (2): one per non-empty series in the plot (as
+//! many points as the series) and one of two points as its legend sample.
+//! Joint-map cells are filled `<rect>`s.
+//!
+//! Text boxes are measured here with `ab_glyph` from the font file the crate
+//! embeds: a `<text>` of `font-size` f was asked of plotters at 1.24 f pixels
+//! (plotters writes size / 1.24); its width is the sum of the glyph advances
+//! and kerning at that pixel size (what the PNG draws); its height covers
+//! both the PNG's glyph box and the SVG's (baseline from `dy`, ascent and
+//! descent at an em of f).
 
+use ab_glyph::{Font, FontRef, ScaleFont};
 use axijoint_report::plots::{
-    plot_convergence, plot_joint_map, plot_profile, Series, LINE_WIDTH, PALETTE, SIZE, STATE_COLORS,
-    STATE_LABELS,
+    plot_convergence, plot_joint_map, plot_profile, plot_profile_with, Axis, Marker, ProfilePlot, Series,
+    LINE_WIDTH, PALETTE, SIZE, STATE_COLORS, STATE_LABELS,
 };
 use axijoint_report::ReportError;
 use axijoint_solver::joint_law::JointState;
@@ -37,26 +46,40 @@ fn paths(dir: &Path, stem: &str) -> (PathBuf, PathBuf) {
 
 /// A parsed SVG: its text strings and its data polylines.
 struct Svg {
+    /// Width and height.
+    size: (u32, u32),
     texts: BTreeSet<String>,
+    /// The texts in document order with their boxes `[x0, x1, y0, y1]`.
+    placed: Vec<(String, [f64; 4])>,
     /// (stroke colour upper case, dashed, number of points) of each polyline
     /// of the data stroke width.
     lines: Vec<(String, bool, usize)>,
+    /// The same polylines in full.
+    strokes: Vec<Stroke>,
     /// Fill colour (upper case) of each filled rectangle.
     rect_fills: Vec<String>,
 }
+
+/// A data polyline: stroke colour, `stroke-dasharray` (empty when solid),
+/// points.
+type Stroke = (String, String, Vec<(f64, f64)>);
 
 fn read_svg(path: &Path) -> Svg {
     let text = std::fs::read_to_string(path).unwrap();
     let doc = roxmltree::Document::parse(&text).expect("the SVG is well-formed XML");
     let root = doc.root_element();
     assert_eq!(root.tag_name().name(), "svg");
-    assert_eq!(root.attribute("width"), Some(SIZE.0.to_string().as_str()));
-    assert_eq!(root.attribute("height"), Some(SIZE.1.to_string().as_str()));
+    let dim = |a: &str| root.attribute(a).unwrap().parse::<u32>().unwrap();
+    let size = (dim("width"), dim("height"));
+    assert_eq!(size.0, SIZE.0, "the width is fixed");
+    assert!(size.1 >= SIZE.1, "the height only grows");
     assert!(
         !text.contains("NaN") && !text.contains("inf"),
         "no NaN or infinity in the SVG"
     );
     let mut texts = BTreeSet::new();
+    let mut placed_texts = Vec::new();
+    let mut strokes = Vec::new();
     let mut lines = Vec::new();
     let mut rect_fills = Vec::new();
     let mut placed = BTreeSet::new();
@@ -72,6 +95,7 @@ fn read_svg(path: &Path) -> Svg {
                     n.attribute("y").unwrap().to_owned(),
                 );
                 assert!(placed.insert(at), "{t:?} drawn twice at one place");
+                placed_texts.push((t.clone(), text_box(&n, &t)));
                 texts.insert(t);
             }
             "polyline" => {
@@ -80,7 +104,19 @@ fn read_svg(path: &Path) -> Svg {
                 if w == width {
                     let points = n.attribute("points").unwrap().split_whitespace().count();
                     let dashed = n.attribute("stroke-dasharray").is_some();
-                    lines.push((n.attribute("stroke").unwrap().to_uppercase(), dashed, points));
+                    let stroke = n.attribute("stroke").unwrap().to_uppercase();
+                    lines.push((stroke.clone(), dashed, points));
+                    let xy = n
+                        .attribute("points")
+                        .unwrap()
+                        .split_whitespace()
+                        .map(|p| {
+                            let (x, y) = p.split_once(',').unwrap();
+                            (x.parse().unwrap(), y.parse().unwrap())
+                        })
+                        .collect();
+                    let dash = n.attribute("stroke-dasharray").unwrap_or("").to_owned();
+                    strokes.push((stroke, dash, xy));
                 }
             }
             "rect" if n.attribute("fill") != Some("none") => {
@@ -90,10 +126,78 @@ fn read_svg(path: &Path) -> Svg {
         }
     }
     Svg {
+        size,
         texts,
+        placed: placed_texts,
         lines,
+        strokes,
         rect_fills,
     }
+}
+
+/// The embedded font, read from the crate's file.
+fn font() -> FontRef<'static> {
+    FontRef::try_from_slice(include_bytes!("../assets/DejaVuSans.ttf")).unwrap()
+}
+
+/// The box `[x0, x1, y0, y1]` of a `<text>` element showing `t` (see the
+/// module documentation), rotated as its `transform` says.
+fn text_box(n: &roxmltree::Node, t: &str) -> [f64; 4] {
+    let num = |a: &str| n.attribute(a).unwrap().parse::<f64>().unwrap();
+    let (x, y, em) = (num("x"), num("y"), num("font-size"));
+    let f = font();
+    let px = em * 1.24;
+    let scaled = f.as_scaled(px as f32);
+    let mut w = 0.0f32;
+    let mut prev = None;
+    for c in t.chars() {
+        let id = scaled.glyph_id(c);
+        if let Some(p) = prev {
+            w += scaled.kern(p, id);
+        }
+        w += scaled.h_advance(id);
+        prev = Some(id);
+    }
+    let w = f64::from(w);
+    let (x0, x1) = match n.attribute("text-anchor").unwrap() {
+        "start" => (x, x + w),
+        "middle" => (x - w / 2.0, x + w / 2.0),
+        "end" => (x - w, x),
+        other => panic!("text-anchor {other}"),
+    };
+    let upem = f64::from(f.units_per_em().unwrap());
+    let (asc, desc) = (
+        f64::from(f.ascent_unscaled()) / upem,
+        f64::from(f.descent_unscaled()) / upem,
+    );
+    let x_height = f64::from(f.outline(f.glyph_id('x')).unwrap().bounds.max.y) / upem;
+    let (png, baseline) = match n.attribute("dy").unwrap() {
+        "0.76em" => ((y, y + px), y + 0.76 * em),
+        "0.5ex" => ((y - px / 2.0, y + px / 2.0), y + 0.5 * x_height * em),
+        "-0.5ex" => ((y - px, y), y - 0.5 * x_height * em),
+        other => panic!("dy {other}"),
+    };
+    let (y0, y1) = (png.0.min(baseline - asc * em), png.1.max(baseline - desc * em));
+    let Some(rot) = n.attribute("transform") else {
+        return [x0, x1, y0, y1];
+    };
+    // rotate(A, cx, cy): A degrees clockwise on the screen about (cx, cy).
+    let args: Vec<f64> = rot
+        .trim_start_matches("rotate(")
+        .trim_end_matches(')')
+        .split(',')
+        .map(|v| v.trim().parse().unwrap())
+        .collect();
+    let (sin, cos) = args[0].to_radians().sin_cos();
+    let corners = [(x0, y0), (x1, y0), (x0, y1), (x1, y1)].map(|(px, py)| {
+        let (dx, dy) = (px - args[1], py - args[2]);
+        (args[1] + dx * cos - dy * sin, args[2] + dx * sin + dy * cos)
+    });
+    let xs = corners.map(|c| c.0);
+    let ys = corners.map(|c| c.1);
+    let lo = |v: [f64; 4]| v.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = |v: [f64; 4]| v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    [lo(xs), hi(xs), lo(ys), hi(ys)]
 }
 
 /// Decodes an RGB(A) PNG: (width, height, pixels as RGB).
@@ -118,7 +222,8 @@ fn read_png(path: &Path) -> (u32, u32, Vec<[u8; 3]>) {
 /// Checks the PNG's size and that it is not blank; returns its pixels.
 fn check_png(path: &Path) -> Vec<[u8; 3]> {
     let (w, h, px) = read_png(path);
-    assert_eq!((w, h), SIZE);
+    let svg = read_svg(&path.with_extension("svg"));
+    assert_eq!((w, h), svg.size, "the PNG has the SVG's size");
     assert!(px.iter().any(|p| *p != px[0]), "not all pixels the same colour");
     let dark = px
         .iter()
@@ -141,8 +246,8 @@ fn series(label: &str, n: usize, dashed: bool, color: usize, x0: f64, f: impl Fn
                 (x, f(x))
             })
             .collect(),
-        dashed,
         color,
+        dash: usize::from(dashed),
     }
 }
 
@@ -182,7 +287,7 @@ fn profile_svg_and_png() {
         "a line and a legend sample per non-empty series"
     );
     for s in &all[..4] {
-        let key = (hex(PALETTE[s.color]), s.dashed);
+        let key = (hex(PALETTE[s.color]), s.dash == 1);
         let mine: Vec<usize> = doc
             .lines
             .iter()
@@ -376,6 +481,226 @@ fn non_finite_and_bad_shapes_are_refused_and_nothing_is_written() {
     );
 }
 
+/// The indices of the consecutive texts (from document order) that show
+/// `label`, one line each: joined by a space where it was wrapped at one,
+/// directly where a word was broken.
+fn find_label(texts: &[(String, [f64; 4])], label: &str) -> Option<Vec<usize>> {
+    'start: for i in 0..texts.len() {
+        let mut acc = texts[i].0.clone();
+        let mut used = vec![i];
+        while acc != label {
+            let j = used[used.len() - 1] + 1;
+            let Some(rest) = label.strip_prefix(acc.as_str()) else {
+                continue 'start;
+            };
+            let Some((next, _)) = texts.get(j) else {
+                continue 'start;
+            };
+            if rest
+                .strip_prefix(' ')
+                .is_some_and(|r| r.starts_with(next.as_str()))
+            {
+                acc = format!("{acc} {next}");
+            } else if rest.starts_with(next.as_str()) {
+                acc.push_str(next);
+            } else {
+                continue 'start;
+            }
+            used.push(j);
+        }
+        return Some(used);
+    }
+    None
+}
+
+fn overlap(a: &[f64; 4], b: &[f64; 4]) -> bool {
+    a[0] < b[1] && b[0] < a[1] && a[2] < b[3] && b[2] < a[3]
+}
+
+/// The checks of a plot's text: every text box inside the canvas and apart
+/// from every other; each of `legend` and `others` shown in full (perhaps
+/// on several lines), the legend's apart from the data lines (polylines of
+/// more than two points); the PNG's outer 2-pixel frame white (nothing cut
+/// at an edge). Returns the SVG.
+fn check_text_fits(svg: &Path, png: &Path, legend: &[&str], others: &[&str]) -> Svg {
+    let doc = read_svg(svg);
+    let (w, h) = (f64::from(doc.size.0), f64::from(doc.size.1));
+    for (t, b) in &doc.placed {
+        assert!(
+            b[0] >= 0.0 && b[1] <= w && b[2] >= 0.0 && b[3] <= h,
+            "{t:?} at {b:?} is not inside the {w} x {h} canvas"
+        );
+    }
+    for (i, (t, a)) in doc.placed.iter().enumerate() {
+        for (u, b) in &doc.placed[i + 1..] {
+            assert!(!overlap(a, b), "{t:?} at {a:?} overlaps {u:?} at {b:?}");
+        }
+    }
+    let data: Vec<&(f64, f64)> = doc
+        .strokes
+        .iter()
+        .filter(|l| l.2.len() > 2)
+        .flat_map(|l| &l.2)
+        .collect();
+    let lo = |f: fn(&(f64, f64)) -> f64| data.iter().map(|p| f(p)).fold(f64::INFINITY, f64::min);
+    let hi = |f: fn(&(f64, f64)) -> f64| data.iter().map(|p| f(p)).fold(f64::NEG_INFINITY, f64::max);
+    let data_box = [lo(|p| p.0), hi(|p| p.0), lo(|p| p.1), hi(|p| p.1)];
+    for label in others {
+        assert!(
+            find_label(&doc.placed, label).is_some(),
+            "{label:?} is not shown in full"
+        );
+    }
+    for label in legend {
+        let used = find_label(&doc.placed, label).unwrap_or_else(|| panic!("{label:?} is not shown in full"));
+        for i in used {
+            let (t, b) = &doc.placed[i];
+            assert!(
+                !overlap(b, &data_box),
+                "legend text {t:?} at {b:?} over the data {data_box:?}"
+            );
+        }
+    }
+    let (pw, ph, px) = read_png(png);
+    assert_eq!((pw, ph), doc.size);
+    let (pw, ph) = (pw as usize, ph as usize);
+    for y in 0..ph {
+        for x in 0..pw {
+            if x < 2 || y < 2 || x + 2 >= pw || y + 2 >= ph {
+                assert_eq!(
+                    px[y * pw + x],
+                    [255; 3],
+                    "PNG pixel ({x}, {y}) on the edge is drawn"
+                );
+            }
+        }
+    }
+    doc
+}
+
+/// Each data style `(stroke, dash array)` drawn exactly twice (the line and
+/// its legend sample), and as many styles as series.
+fn check_distinct_styles(doc: &Svg, n_series: usize) {
+    let mut count: std::collections::BTreeMap<(String, String), usize> = Default::default();
+    for (stroke, dash, _) in &doc.strokes {
+        *count.entry((stroke.clone(), dash.clone())).or_default() += 1;
+    }
+    assert_eq!(count.len(), n_series, "one (colour, dash) per series: {count:?}");
+    assert!(count.values().all(|&n| n == 2), "{count:?}");
+}
+
+/// The worst cases: 16 series (their requested colours and dashes repeat),
+/// labels too long for a panel beside the plot, one word wider than the
+/// canvas, a three-line title, markers close together and at an end; 12
+/// convergence runs with long path labels; a joint map with a long title.
+#[test]
+fn worst_case_text_fits_and_every_series_has_its_own_style() {
+    let dir = tempfile::tempdir().unwrap();
+    let (svg, png) = paths(dir.path(), "worst");
+    let body = "precast_concrete_pile_with_a_long_name";
+    let mut all: Vec<Series> = (0..16u32)
+        .map(|k| {
+            let t = 22.5 * f64::from(k / 2);
+            let variant = if k % 2 == 0 {
+                "with joint".to_owned()
+            } else {
+                format!("without joint (bonded run of out/runs/case_{k}/pile_bonded)")
+            };
+            let mut s = series(
+                &format!("theta {t} deg, {body}, {variant}"),
+                61,
+                false,
+                0,
+                0.0,
+                |x| (x + f64::from(k)).sin() * (1.0 + f64::from(k)),
+            );
+            (s.color, s.dash) = (k as usize % 3, k as usize % 2);
+            s
+        })
+        .collect();
+    all[3].label = format!("{}_unbroken", "x".repeat(140));
+    all[5].label = "a".to_owned();
+    all.push(series("empty, skipped", 0, false, 2, 0.0, |x| x));
+    let title = "Cut a-very-long-cut-name: sigma_z at r = 0.45 m, z = 0 to -12 m; \
+                 theta = 0, 22.5, 45, 67.5, 90, 112.5, 135, 157.5 deg, a title that needs three \
+                 lines on the canvas of this plot";
+    let markers = [
+        (0.5, 0.5, "joint pile_shaft"),
+        (0.55, 0.55, "joint pile_shaft_lower"),
+        (2.0, 2.5, "joint along the cut"),
+        (6.0, 6.0, "joint pile_toe"),
+    ]
+    .map(|(from, to, label)| Marker {
+        axis: Axis::X,
+        from,
+        to,
+        label: label.to_owned(),
+    });
+    let plot = ProfilePlot {
+        title,
+        x_label: "distance along the cut (m)",
+        y_label: "sigma_z (MPa)",
+        series: &all,
+        markers: &markers,
+        position: Axis::X,
+    };
+    plot_profile_with(&svg, &png, &plot).unwrap();
+    let labels: Vec<&str> = all[..16].iter().map(|s| s.label.as_str()).collect();
+    let others: Vec<&str> = markers.iter().map(|m| m.label.as_str()).chain([title]).collect();
+    let doc = check_text_fits(&svg, &png, &labels, &others);
+    assert!(doc.size.1 > SIZE.1, "the canvas grew: {:?}", doc.size);
+    assert!(!doc.texts.contains("empty, skipped"));
+    check_distinct_styles(&doc, 16);
+
+    // The same along y (a cut along z), markers across it.
+    let vertical: Vec<Series> = all
+        .iter()
+        .map(|s| Series {
+            points: s.points.iter().map(|&(x, y)| (y, -x)).collect(),
+            ..s.clone()
+        })
+        .collect();
+    let markers_y: Vec<Marker> = markers
+        .iter()
+        .map(|m| Marker {
+            axis: Axis::Y,
+            from: -m.from,
+            to: -m.to,
+            ..m.clone()
+        })
+        .collect();
+    let plot = ProfilePlot {
+        x_label: "sigma_z (MPa)",
+        y_label: "z (m)",
+        series: &vertical,
+        markers: &markers_y,
+        position: Axis::Y,
+        ..plot
+    };
+    plot_profile_with(&svg, &png, &plot).unwrap();
+    check_distinct_styles(&check_text_fits(&svg, &png, &labels, &others), 16);
+
+    // Twelve runs of one scene, labelled by long paths.
+    let runs: Vec<(String, Vec<(u32, f64)>)> = (0..12)
+        .map(|k| {
+            (
+                format!("/home/someone/projects/piles/parameter_study/case_{k:02}/out/pile_footing_scene"),
+                (1..=20 + k).map(|i| (i, 0.7f64.powi(i as i32))).collect(),
+            )
+        })
+        .collect();
+    let (svg, png) = paths(dir.path(), "runs");
+    plot_convergence(&svg, &png, title, &runs).unwrap();
+    let labels: Vec<&str> = runs.iter().map(|r| r.0.as_str()).collect();
+    let doc = check_text_fits(&svg, &png, &labels, &[title]);
+    check_distinct_styles(&doc, 12);
+
+    let (svg, png) = paths(dir.path(), "map");
+    let st = vec![vec![JointState::Stick, JointState::Open]; 2];
+    plot_joint_map(&svg, &png, title, &[0.0, 1.0], &[0.0, 180.0], &st).unwrap();
+    check_text_fits(&svg, &png, &STATE_LABELS, &[title]);
+}
+
 /// Renders sample plots into `$AXIJOINT_PLOTS_DIR` for a look by eye:
 /// `AXIJOINT_PLOTS_DIR=/tmp/plots cargo test -p axijoint-report --test plots -- --ignored`.
 #[test]
@@ -391,8 +716,8 @@ fn render_samples_for_review() {
                 .map(|i| from + (to - from) * f64::from(i) / 50.0)
                 .map(|r| (r, f(r)))
                 .collect(),
-            dashed,
             color,
+            dash: usize::from(dashed),
         };
     let prof = vec![
         sample("with joint, pile", 0.0, a, false, 0, &|r| -1.2 + 2.6 * r),
