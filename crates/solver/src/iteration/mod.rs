@@ -140,6 +140,29 @@ pub struct PointInfo {
     pub nodes: Vec<usize>,
 }
 
+/// The integration points of every joint of `model`, in the order of the
+/// joint fields (joints, then elements, then points).
+pub fn joint_point_infos(model: &Model) -> Vec<PointInfo> {
+    let mesh = &model.mesh;
+    let mut points = Vec::new();
+    for (j, joint) in mesh.joints.iter().enumerate() {
+        let rule = model.joints[j].rule;
+        for (e, el) in joint.elements.iter().enumerate() {
+            let coords: Vec<[f64; 2]> = el.bottom.iter().map(|&k| mesh.nodes[k]).collect();
+            let nodes: Vec<usize> = el.bottom.iter().chain(&el.top).copied().collect();
+            for point in crate::elements::joint_points(el.kind, &coords, rule) {
+                points.push(PointInfo {
+                    joint: j,
+                    element: e,
+                    point,
+                    nodes: nodes.clone(),
+                });
+            }
+        }
+    }
+    points
+}
+
 /// Joint relative displacements, admissible tractions and states at every
 /// point and section: index `s * n_points + p`.
 #[derive(Clone, Debug, PartialEq)]

@@ -6,7 +6,7 @@
 
 use super::release::Eval;
 use super::{Converged, IterationError, IterationRecord, JointField, JointStart, Outcome, PointInfo};
-use crate::elements::{joint_points, JointSprings};
+use crate::elements::JointSprings;
 use crate::fourier::{Family, Sections};
 use crate::joint_law::{relative_trial, state_counts, JointState, PointHistory};
 use crate::linear::{HarmonicFactor, Model};
@@ -115,22 +115,7 @@ impl<'a> Setup<'a> {
         }
 
         // Points and joint nodes.
-        let mut points = Vec::new();
-        for (j, joint) in mesh.joints.iter().enumerate() {
-            let rule = model.joints[j].rule;
-            for (e, el) in joint.elements.iter().enumerate() {
-                let coords: Vec<[f64; 2]> = el.bottom.iter().map(|&k| mesh.nodes[k]).collect();
-                let nodes: Vec<usize> = el.bottom.iter().chain(&el.top).copied().collect();
-                for point in joint_points(el.kind, &coords, rule) {
-                    points.push(PointInfo {
-                        joint: j,
-                        element: e,
-                        point,
-                        nodes: nodes.clone(),
-                    });
-                }
-            }
-        }
+        let points = super::joint_point_infos(model);
         let joint_nodes = model.joint_nodes().to_vec();
         let mut where_ = vec![usize::MAX; n];
         for (j, &k) in joint_nodes.iter().enumerate() {
