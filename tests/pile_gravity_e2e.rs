@@ -5,6 +5,7 @@
 //! |---|---|---|
 //! | the initial state far from the pile (cut r = 8) is geostatic: `sigma_z = gamma z`, `sigma_r = K0 sigma_z` | closed form | 1 % of `gamma` x the cut's depth |
 //! | the head load is carried: reactions balance the applied load | equilibrium | 1e-6 |
+//! | the initial phase's weight (summary.json) | soil and pile volumes x unit weights | 1e-9 |
 //! | the whole load is reached with stepped loading and with the paper's one-shot iteration, which without the in-situ stress ends in "no equilibrium" (exit 3) | - | - |
 
 mod common;
@@ -44,6 +45,14 @@ fn pile_in_soil_with_gravity_starts_from_the_geostatic_state() {
     let (stdout, stderr) = text(&o);
     assert!(o.status.success(), "{stdout}\n{stderr}");
     assert!(stdout.contains("initial phase: weight"), "{stdout}");
+    let summary = read_json(&out.join("summary.json"));
+    let w = summary["initial"]["balance"]["weight"].as_f64().unwrap();
+    // Soil cylinder R = 10, H = 20 (less the pile) at 0.018, the pile at 0.024.
+    let (a, l) = (0.5, 10.0);
+    let pi = std::f64::consts::PI;
+    let exact = GAMMA * (pi * 100.0 * 20.0 - pi * a * a * l) + 0.024 * pi * a * a * l;
+    assert!((w / exact - 1.0).abs() < 1e-9, "{w} vs {exact}");
+    assert!(out.join("initial_displacement.f64").is_file());
 
     // The initial state at r = 8, away from the pile.
     let (header, rows) = read_csv(&out.join("cut_far-r8_theta0_initial.csv"));

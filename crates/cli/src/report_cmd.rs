@@ -66,6 +66,9 @@ pub fn report(dir: &Path, compare: &[PathBuf]) -> Result<()> {
     if joints.is_some() {
         files.push("joints.json".into());
     }
+    if let Some(i) = &h.initial {
+        files.push(i.displacement.file.clone());
+    }
     files.extend(written.files.iter().map(|p| p.display().to_string()));
     files.push("summary.json".into());
     let summary = json!({
@@ -89,6 +92,7 @@ pub fn report(dir: &Path, compare: &[PathBuf]) -> Result<()> {
         "complete": h.extra.get("complete").cloned().unwrap_or(json!(true)),
         "note": h.extra.get("note"),
         "load_steps": h.extra.get("load_path").map(|p| &p["steps"]),
+        "initial": h.initial,
         "files": files,
     });
     let path = dir.join("summary.json");
