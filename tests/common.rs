@@ -17,10 +17,17 @@ pub fn geo(name: &str) -> PathBuf {
     root().join("geo").join(name)
 }
 
+/// The mesh cache folder of the end-to-end tests (`AXIJOINT_CACHE`), under
+/// the build folder: the tests neither read nor fill the user's cache.
+pub fn test_cache() -> PathBuf {
+    Path::new(env!("CARGO_TARGET_TMPDIR")).join("mesh-cache")
+}
+
 /// Runs the `axijoint` binary.
 pub fn axijoint(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_axijoint"))
         .args(args)
+        .env("AXIJOINT_CACHE", test_cache())
         .output()
         .expect("axijoint runs")
 }

@@ -137,6 +137,7 @@ fn gmsh_failures_exit_4() {
         Command::new(env!("CARGO_BIN_EXE_axijoint"))
             .args(["mesh", geo("cylinder.geo").to_str().unwrap()])
             .env("AXIJOINT_GMSH", program)
+            .env("AXIJOINT_CACHE", test_cache())
             .output()
             .expect("axijoint runs")
     };

@@ -177,6 +177,7 @@ fn run_without_argument_runs_scene_p() {
     let run = std::process::Command::new(env!("CARGO_BIN_EXE_axijoint"))
         .args(["run", "-q", "--set", "size=0.5"])
         .current_dir(dir.path())
+        .env("AXIJOINT_CACHE", test_cache())
         .output()
         .unwrap();
     let (stdout, stderr) = text(&run);

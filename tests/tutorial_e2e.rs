@@ -237,6 +237,7 @@ fn shell(dir: &Path, cmd: &str) -> (bool, String) {
         .arg(cmd)
         .current_dir(dir)
         .env("PATH", path)
+        .env("AXIJOINT_CACHE", test_cache())
         .output()
         .expect("sh runs");
     let (stdout, stderr) = text(&out);

@@ -1,6 +1,9 @@
-//! Running the gmsh command line on a `.geo` file.
+//! Running the gmsh command line on a `.geo` file, through the mesh
+//! [`cache`] when the process has one.
 
-use crate::{read_msh, Mesh, MeshError};
+pub mod cache;
+
+use crate::{parse_msh, read_msh, Mesh, MeshError};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -62,12 +65,53 @@ pub fn mesh_geo(geo: &Path, parameters: &[(String, f64)], msh: &Path) -> Result<
     Ok(())
 }
 
+/// Where [`load_with`] took a mesh from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MeshSource {
+    /// A `.msh` file read as it is.
+    File,
+    /// gmsh meshed the `.geo`.
+    Gmsh,
+    /// The cache held gmsh's mesh of the same inputs.
+    Cache,
+}
+
 /// Reads a `.msh`, or meshes a `.geo` with gmsh (in a temporary folder, or
-/// into `keep_msh` when given) and reads the result.
+/// into `keep_msh` when given) and reads the result; through the process's
+/// mesh cache ([`cache::dir`]) if it has one.
 pub fn load(path: &Path, parameters: &[(String, f64)], keep_msh: Option<&Path>) -> Result<Mesh, MeshError> {
+    load_with(path, parameters, keep_msh, cache::dir().as_deref()).map(|(mesh, _)| mesh)
+}
+
+/// [`load`] with the cache folder `cache` (`None`: no cache), telling
+/// where the mesh came from. A `.geo` whose key ([`cache::key`]) has a
+/// whole entry is read from it; else gmsh runs and its `.msh` is stored (a
+/// cache that cannot be written is skipped).
+pub fn load_with(
+    path: &Path,
+    parameters: &[(String, f64)],
+    keep_msh: Option<&Path>,
+    cache: Option<&Path>,
+) -> Result<(Mesh, MeshSource), MeshError> {
     let is_geo = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("geo"));
     if !is_geo {
-        return read_msh(path);
+        return Ok((read_msh(path)?, MeshSource::File));
+    }
+    let keep = |bytes: &[u8]| match keep_msh {
+        Some(keep) => std::fs::write(keep, bytes).map_err(|e| MeshError::Io {
+            path: keep.to_path_buf(),
+            source: e,
+        }),
+        None => Ok(()),
+    };
+    let key = cache.and_then(|dir| Some((dir, cache::key(path, parameters, &gmsh_program())?)));
+    if let Some((dir, key)) = &key {
+        if let Some(bytes) = cache::get(dir, key) {
+            let label = meshed_label(path);
+            let mesh = parse_msh(&bytes, &label)?.to_mesh(&label)?;
+            keep(&bytes)?;
+            return Ok((mesh, MeshSource::Cache));
+        }
     }
     let dir = tempfile::tempdir().map_err(|e| MeshError::Io {
         path: std::env::temp_dir(),
@@ -75,19 +119,29 @@ pub fn load(path: &Path, parameters: &[(String, f64)], keep_msh: Option<&Path>) 
     })?;
     let tmp = dir.path().join("mesh.msh");
     mesh_geo(path, parameters, &tmp)?;
-    let mesh = read_msh(&tmp).map_err(|e| rename_path(e, &tmp, path))?;
-    if let Some(keep) = keep_msh {
-        std::fs::copy(&tmp, keep).map_err(|e| MeshError::Io {
-            path: keep.to_path_buf(),
-            source: e,
-        })?;
+    let bytes = std::fs::read(&tmp).map_err(|e| MeshError::Io {
+        path: tmp.clone(),
+        source: e,
+    })?;
+    let mesh = parse_msh(&bytes, &tmp)
+        .and_then(|f| f.to_mesh(&tmp))
+        .map_err(|e| rename_path(e, &tmp, path))?;
+    keep(&bytes)?;
+    if let Some((dir, key)) = &key {
+        // Best effort: a read-only or full cache only loses the reuse.
+        let _ = cache::put(dir, key, &bytes);
     }
-    Ok(mesh)
+    Ok((mesh, MeshSource::Gmsh))
+}
+
+/// How errors in gmsh's output name the `.geo`.
+fn meshed_label(geo: &Path) -> PathBuf {
+    PathBuf::from(format!("{} (meshed by gmsh)", geo.display()))
 }
 
 /// Errors in the temporary `.msh` are reported against the `.geo`.
 fn rename_path(e: MeshError, tmp: &Path, geo: &Path) -> MeshError {
-    let label = PathBuf::from(format!("{} (meshed by gmsh)", geo.display()));
+    let label = meshed_label(geo);
     match e {
         MeshError::Parse { path, line, message } if path == tmp => MeshError::Parse {
             path: label,
