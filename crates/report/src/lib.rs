@@ -24,6 +24,7 @@ pub mod csv_out;
 pub mod cut_plot;
 pub mod cuts;
 pub mod error;
+pub mod estimate;
 pub mod field;
 pub mod gmsh_view;
 pub mod plots;
