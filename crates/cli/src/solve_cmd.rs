@@ -2,7 +2,9 @@
 
 use anyhow::{Context, Result};
 use axijoint_report::cuts::profile_values;
-use axijoint_solver::driver::{solution_header, solve_scene_auto, solve_scene_with, InitialState, LinearRun, Run};
+use axijoint_solver::driver::{
+    solution_header, solve_scene_auto, solve_scene_with, InitialState, LinearRun, Run,
+};
 use axijoint_solver::iteration::{IterationError, IterationRecord};
 use axijoint_solver::results::{read_solution, write_solution, JointFieldFile, SolutionHeader};
 use axijoint_solver::scene::{Harmonics, Scene};
@@ -159,7 +161,13 @@ pub fn solve_to(scene: &Scene, out: &Path, quiet: bool) -> Result<SolutionHeader
     };
     bar.finish_and_clear();
     let (solved, run): (Scene, Run) = result?;
-    let mut header = solution_header(&solved, &run.linear);
+    write_run(scene, &solved, &run, &msh, out)
+}
+
+/// The header of a finished run of `scene` (`solved`: the scene as run, its
+/// harmonics chosen) and its solution folder at `out`.
+pub fn write_run(scene: &Scene, solved: &Scene, run: &Run, msh: &Path, out: &Path) -> Result<SolutionHeader> {
+    let mut header = solution_header(solved, &run.linear);
     header.initial = run.initial.as_ref().map(axijoint_solver::driver::initial_info);
     if let Some(outcome) = &run.outcome {
         header.extra = serde_json::json!({
@@ -203,14 +211,14 @@ pub fn solve_to(scene: &Scene, out: &Path, quiet: bool) -> Result<SolutionHeader
     // Every joint's field, linear ones included (`t0 + k d`, stick).
     let springs: Vec<_> = run.linear.model.joints.iter().map(|j| j.springs).collect();
     let joints = run
-        .joint_field(&solved)?
+        .joint_field(solved)?
         .map(|f| JointFieldFile::new(&run.linear.model.mesh, &springs, &f));
     write_solution(
         out,
         &header,
         &run.linear.displacements,
         run.initial.as_ref().map(|i| &i.displacements),
-        &msh,
+        msh,
         &run.linear.model.mesh,
         joints.as_ref(),
     )?;
@@ -220,7 +228,7 @@ pub fn solve_to(scene: &Scene, out: &Path, quiet: bool) -> Result<SolutionHeader
 /// Writes the last iterate of a one-shot run that stopped: the solution
 /// folder with `extra.converged = false`, the error, the history and the
 /// joint field of that iterate.
-fn write_last_iterate(
+pub fn write_last_iterate(
     scene: &Scene,
     linear: &LinearRun,
     initial: Option<&InitialState>,
@@ -259,7 +267,7 @@ fn write_last_iterate(
 /// The folder of the comparison run without joints, inside a solution folder.
 pub const WITHOUT_JOINTS: &str = "without_joints";
 
-fn print_summary(path: &Path, scene: &Scene, header: &SolutionHeader, out: &Path) {
+pub fn print_summary(path: &Path, scene: &Scene, header: &SolutionHeader, out: &Path) {
     println!("{}: {}", path.display(), scene.title);
     println!(
         "  {} nodes, {} elements, {} unknowns per harmonic, harmonics 0..={}",
@@ -411,7 +419,7 @@ impl LimitReached {
 }
 
 /// `Err(LimitReached)` when the header says the whole load was not reached.
-fn check_limit(header: &SolutionHeader, out: &Path) -> Result<()> {
+pub fn check_limit(header: &SolutionHeader, out: &Path) -> Result<()> {
     let limit = &header.extra["load_path"]["limit"];
     match (limit["factor"].as_f64(), limit["failed_at"].as_f64()) {
         (Some(factor), Some(failed_at)) => Err(LimitReached {
@@ -427,6 +435,10 @@ fn check_limit(header: &SolutionHeader, out: &Path) -> Result<()> {
 }
 
 pub fn run_solve(args: &SolveArgs) -> Result<()> {
+    let scene = load_scene(&args.scene, &args.common)?;
+    if !scene.load_cases.is_empty() {
+        return crate::cases_cmd::run(&args.scene, &scene, &args.common, false);
+    }
     let (_, out, header) = solve_and_write(&args.scene, &args.common)?;
     check_limit(&header, &out)
 }
@@ -436,6 +448,10 @@ pub fn run_run(args: &RunArgs) -> Result<()> {
         Some(s) => s.clone(),
         None => default_scene()?,
     };
+    let loaded = load_scene(&scene, &args.common)?;
+    if !loaded.load_cases.is_empty() {
+        return crate::cases_cmd::run(&scene, &loaded, &args.common, true);
+    }
     let (scene, out, header) = match solve_and_write(&scene, &args.common) {
         Ok(v) => v,
         Err(e) => {

@@ -1027,13 +1027,30 @@ pub fn solve_scene_with(
 ) -> Result<Run, SolverError> {
     use crate::scene::JointLaw;
     let nonlinear = scene.joints.values().any(|j| j.law != JointLaw::Linear);
-    let mut linear = linear_run(scene, keep_msh, nonlinear, false)?;
+    let linear = linear_run(scene, keep_msh, nonlinear, false)?;
     let t = Instant::now();
     let initial = if scene.has_initial_phase() {
         Some(initial_phase(scene, &linear, &mut progress)?)
     } else {
         None
     };
+    finish_run(scene, linear, initial, t, progress, on_failure).map_err(|f| f.0)
+}
+
+/// The rest of a run from its linear solution (the elastic solution of the
+/// scene's loads) and initial state: the iteration if a joint can open or
+/// slip, the M/2 check, the reactions. `t`: when the run's solve began. On
+/// failure the linear run comes back with the error.
+fn finish_run(
+    scene: &Scene,
+    mut linear: LinearRun,
+    initial: Option<InitialState>,
+    t: Instant,
+    mut progress: impl FnMut(&crate::iteration::IterationRecord),
+    on_failure: impl FnOnce(&LinearRun, Option<&InitialState>, &crate::iteration::IterationError),
+) -> Result<Run, Box<(SolverError, LinearRun)>> {
+    use crate::scene::JointLaw;
+    let nonlinear = scene.joints.values().any(|j| j.law != JointLaw::Linear);
     if !nonlinear || linear.model.mesh.joints.is_empty() {
         linear.reactions = reactions(scene, &linear.model, &linear.loads, &linear.displacements);
         linear.timings.solve += t.elapsed().as_secs_f64();
@@ -1046,7 +1063,10 @@ pub fn solve_scene_with(
             initial,
         });
     }
-    let sections = scene_sections(scene, &linear.loads)?;
+    let sections = match scene_sections(scene, &linear.loads) {
+        Ok(s) => s,
+        Err(e) => return Err(Box::new((e, linear))),
+    };
     let m = scene.harmonics();
     let (outcome, load_path) = match iterate(scene, &linear, m, &sections, initial.as_ref(), &mut progress) {
         Ok(v) => v,
@@ -1056,9 +1076,9 @@ pub fn solve_scene_with(
                 linear.reactions = Vec::new();
                 on_failure(&linear, initial.as_ref(), &e);
             }
-            return Err(SolverError::Iteration(e));
+            return Err(Box::new((SolverError::Iteration(e), linear)));
         }
-        Err(e) => return Err(e),
+        Err(e) => return Err(Box::new((e, linear))),
     };
     let complete = load_path.as_ref().is_none_or(|p| p.limit.is_none());
     let harmonic_check = if m >= 2 && !complete {
@@ -1113,6 +1133,60 @@ pub fn solve_scene_with(
         load_path,
         initial,
     })
+}
+
+/// Solves every load case of `scene` ([`Scene::load_cases`]) on one model
+/// and one set of factors (every harmonic 0..=M, factorized once), each
+/// from the same initial state. `each` sees the case's index, its scene
+/// and its run or why it stopped, in order; a case that stops does not stop
+/// the others. A failure before the cases (mesh, factors, initial phase) is
+/// returned.
+pub fn solve_cases(
+    scene: &Scene,
+    keep_msh: Option<&Path>,
+    mut progress: impl FnMut(&crate::iteration::IterationRecord),
+    mut on_failure: impl FnMut(usize, &LinearRun, Option<&InitialState>, &crate::iteration::IterationError),
+    mut each: impl FnMut(usize, &Scene, Result<&Run, &SolverError>),
+) -> Result<(), SolverError> {
+    let mut linear = linear_run(scene, keep_msh, true, false)?;
+    let t = Instant::now();
+    let initial = if scene.has_initial_phase() {
+        Some(initial_phase(scene, &linear, &mut progress)?)
+    } else {
+        None
+    };
+    linear.timings.solve += t.elapsed().as_secs_f64();
+    let m_max = scene.harmonics();
+    for k in 0..scene.load_cases.len() {
+        let case = scene.case(k);
+        let t = Instant::now();
+        linear.timings.solve = 0.0;
+        match assemble_loads(&case, &linear.model.mesh, m_max) {
+            Ok(loads) => linear.loads = loads,
+            Err(e) => {
+                each(k, &case, Err(&SolverError::Scene(e.in_case(k))));
+                continue;
+            }
+        }
+        linear.displacements = solve_loads(&linear.model, &linear.factors, &linear.loads);
+        linear.applied = load_resultants(&linear.loads, &linear.model.mesh, 0.0);
+        linear.reactions = Vec::new();
+        let on_fail = |l: &LinearRun, i: Option<&InitialState>, e: &crate::iteration::IterationError| {
+            on_failure(k, l, i, e)
+        };
+        match finish_run(&case, linear, initial.clone(), t, &mut progress, on_fail) {
+            Ok(run) => {
+                each(k, &case, Ok(&run));
+                linear = run.linear;
+            }
+            Err(failed) => {
+                let (e, l) = *failed;
+                each(k, &case, Err(&e));
+                linear = l;
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Chooses M automatically: a linear scene solves the harmonics its loads

@@ -1,6 +1,6 @@
 //! Semantic checks of a scene: values alone, then names against a mesh.
 
-use super::{Family, JointLaw, Load, RuleKind, Scene, SceneError};
+use super::{Family, JointLaw, Load, Outputs, RuleKind, Scene, SceneError, VtuSections};
 use crate::loads::{
     face_section, point_locations, point_off_axis, tolerance, ANTISYMMETRIC_ZERO, RING_ON_AXIS,
 };
@@ -86,6 +86,7 @@ impl Scene {
         for (i, load) in self.loads.iter().enumerate() {
             self.check_load(i, load)?;
         }
+        self.check_load_cases()?;
         if let Some(sections) = &self.sections {
             let t = &sections.theta_deg;
             match sections.count {
@@ -117,8 +118,23 @@ impl Scene {
         if self.solver.max_iterations == 0 {
             return Err(self.invalid("solver.max_iterations", "must be at least 1"));
         }
-        if self.outputs.vtu_sections < 3 {
-            return Err(self.invalid("outputs.vtu_sections", "must be at least 3"));
+        if let VtuSections::Count(n @ 0..3) = self.outputs.vtu_sections {
+            return Err(self.invalid(
+                "outputs.vtu_sections",
+                format!("{n} is not allowed: give at least 3, or \"auto\""),
+            ));
+        }
+        let known = Outputs::VTU_FIELDS;
+        if let Some(f) = self
+            .outputs
+            .vtu_fields
+            .iter()
+            .find(|f| !known.contains(&f.as_str()))
+        {
+            return Err(self.invalid(
+                "outputs.vtu_fields",
+                format!("unknown array '{f}' (known: {})", known.join(", ")),
+            ));
         }
         self.check_cuts()
     }
@@ -157,6 +173,46 @@ impl Scene {
                 format!("'{}' is neither a .geo nor a .msh file", self.mesh.file),
             )),
         }
+    }
+
+    fn check_load_cases(&self) -> Result<(), SceneError> {
+        if self.load_cases.is_empty() {
+            return Ok(());
+        }
+        if !self.loads.is_empty() {
+            return Err(self.invalid(
+                "load_cases",
+                "give either `loads` (one case) or `load_cases`, not both",
+            ));
+        }
+        if self.harmonics == crate::scene::Harmonics::Auto {
+            return Err(self.invalid(
+                "harmonics",
+                "load cases share one set of factors: give a number of harmonics, not \"auto\"",
+            ));
+        }
+        for (k, case) in self.load_cases.iter().enumerate() {
+            let name = &case.name;
+            let valid = !name.is_empty()
+                && !name.starts_with('.')
+                && name
+                    .chars()
+                    .all(|c| c.is_ascii_alphanumeric() || "_-.".contains(c));
+            if !valid {
+                return Err(self.invalid(
+                    format!("load_cases[{k}].name"),
+                    format!("'{name}' is not allowed: it names the case's folder (letters, digits, _, - and ., not first)"),
+                ));
+            }
+            if self.load_cases[..k].iter().any(|c| &c.name == name) {
+                return Err(self.invalid(format!("load_cases[{k}].name"), format!("'{name}' is used twice")));
+            }
+            let scene = self.case(k);
+            for (i, load) in scene.loads.iter().enumerate() {
+                scene.check_load(i, load).map_err(|e| e.in_case(k))?;
+            }
+        }
+        Ok(())
     }
 
     fn check_initial_stress(&self, name: &str, init: &super::InitialStress) -> Result<(), SceneError> {
@@ -457,6 +513,20 @@ impl Scene {
                 });
             }
         }
+        for k in 0..self.load_cases.len() {
+            self.case(k).check_loads_on(mesh).map_err(|e| e.in_case(k))?;
+        }
+        self.check_loads_on(mesh)
+    }
+
+    /// The loads' names and faces against the mesh.
+    fn check_loads_on(&self, mesh: &Mesh) -> Result<(), SceneError> {
+        let edges = CellEdges::new(mesh);
+        let on_edges = |curve: &CurveSet, key: &str| {
+            edges
+                .check(curve, &self.mesh_path())
+                .map_err(|e| self.invalid(key, e.to_string()))
+        };
         let tol = tolerance(mesh);
         for (i, load) in self.loads.iter().enumerate() {
             let key = format!("loads[{i}].on");

@@ -59,6 +59,20 @@ pub enum SceneError {
 }
 
 impl SceneError {
+    /// The same error with a key of `loads` read as one of load case `k`
+    /// (`loads[i]...` -> `load_cases[k].loads[i]...`).
+    pub fn in_case(mut self, k: usize) -> SceneError {
+        if let SceneError::Parse { key, .. }
+        | SceneError::Invalid { key, .. }
+        | SceneError::UnknownName { key, .. } = &mut self
+        {
+            if key.starts_with("loads") {
+                *key = format!("load_cases[{k}].{key}");
+            }
+        }
+        self
+    }
+
     /// The key path the error is about, if any.
     pub fn key(&self) -> Option<&str> {
         match self {

@@ -38,7 +38,7 @@ pub use joint::{JointConfig, JointLaw, MohrCoulomb, RuleKind, ShearCheck};
 pub use load::{Family, Linear, Load, PointLoad, ResultantLoad, RingLoad, TractionLoad};
 pub use settings::{
     Cut, Fix, InitialStress, Loading, Material, MeshSource, Outputs, Sections, SolverMethod, SolverSettings,
-    Support, Units,
+    Support, Units, VtuSections,
 };
 
 use axijoint_mesh::JointSpec;
@@ -135,6 +135,10 @@ pub struct Scene {
     /// Loads.
     #[serde(default)]
     pub loads: Vec<Load>,
+    /// Named load sets, each solved on the same factors from the initial
+    /// state (none: `loads` is the one case).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub load_cases: Vec<LoadCase>,
     /// Horizontal pseudo-static (seismic) coefficient k_h: a body force
     /// `k_h gamma` in +x on every material with a unit weight (harmonic 1).
     #[serde(default, skip_serializing_if = "settings::is_zero")]
@@ -158,7 +162,29 @@ pub struct Scene {
     pub path: PathBuf,
 }
 
+/// A named set of loads ([`Scene::load_cases`]).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LoadCase {
+    /// Name: the case's sub-folder (letters, digits, `_`, `-`, `.`).
+    pub name: String,
+    /// Its loads.
+    pub loads: Vec<Load>,
+}
+
 impl Scene {
+    /// The scene of load case `k`: its loads in place of `loads`, no cases,
+    /// the case's name after the title.
+    pub fn case(&self, k: usize) -> Scene {
+        let case = &self.load_cases[k];
+        Scene {
+            title: format!("{} [load case {}]", self.title, case.name),
+            loads: case.loads.clone(),
+            load_cases: Vec::new(),
+            ..self.clone()
+        }
+    }
+
     /// Reads and parses a scene file (types and shapes only; see
     /// [`Scene::check`]).
     pub fn from_path(path: impl AsRef<Path>) -> Result<Scene, SceneError> {
