@@ -93,18 +93,73 @@ pub fn report(dir: &Path, compare: &[PathBuf]) -> Result<()> {
         "note": h.extra.get("note"),
         "load_steps": h.extra.get("load_path").map(|p| &p["steps"]),
         "initial": h.initial,
+        "estimated_error": estimated_error(&written.estimated_error),
+        "estimated_energy_error": written.energy_error,
         "files": files,
     });
     let path = dir.join("summary.json");
     let tmp = dir.join(".summary.json.partial");
     std::fs::write(&tmp, serde_json::to_string_pretty(&summary)?)?;
     std::fs::rename(&tmp, &path)?;
+    print_estimates(dir);
     println!(
         "  report: {} files in {} (index: summary.json)",
         files.len(),
         dir.display()
     );
     Ok(())
+}
+
+/// Above this estimated error of a profile the console warns.
+pub const ESTIMATE_WARNING: f64 = 0.05;
+
+/// `cut name -> theta as in file names -> fraction`.
+pub fn estimated_error(rows: &[(String, f64, f64)]) -> serde_json::Value {
+    let mut map = serde_json::Map::new();
+    for (cut, theta, e) in rows {
+        let entry = map.entry(cut.clone()).or_insert_with(|| json!({}));
+        entry[axijoint_report::fmt_angle(*theta)] = json!(e);
+    }
+    serde_json::Value::Object(map)
+}
+
+/// The estimated errors of `dir/summary.json` on the console
+/// (docs/accuracy.md), a warning for each profile above
+/// [`ESTIMATE_WARNING`].
+fn print_estimates(dir: &Path) {
+    let Some(summary) = std::fs::read(dir.join("summary.json"))
+        .ok()
+        .and_then(|b| serde_json::from_slice::<serde_json::Value>(&b).ok())
+    else {
+        return;
+    };
+    let energy = summary["estimated_energy_error"].as_f64().unwrap_or(f64::NAN);
+    let mut rows = Vec::new();
+    for (cut, per_theta) in summary["estimated_error"].as_object().into_iter().flatten() {
+        for (t, e) in per_theta.as_object().into_iter().flatten() {
+            rows.push((cut.clone(), t.clone(), e.as_f64().unwrap_or(f64::NAN)));
+        }
+    }
+    let parts: Vec<String> = rows
+        .iter()
+        .map(|(cut, t, e)| format!("{cut} theta {t}: {:.2} %", 100.0 * e))
+        .collect();
+    println!(
+        "  estimated error: {}{:.2} % in the energy norm",
+        if parts.is_empty() {
+            String::new()
+        } else {
+            format!("{} (of each profile's max |stress|); ", parts.join(", "))
+        },
+        100.0 * energy
+    );
+    for (cut, t, e) in rows.iter().filter(|r| !(r.2 <= ESTIMATE_WARNING)) {
+        println!(
+            "  WARNING: cut {cut} at theta {t} deg: estimated error {:.1} % of its max |stress| (above {} %): refine the mesh there or set mesh.adapt (docs/accuracy.md)",
+            100.0 * e,
+            100.0 * ESTIMATE_WARNING
+        );
+    }
 }
 
 pub fn run(args: &ReportArgs) -> Result<()> {

@@ -42,6 +42,11 @@ use std::path::{Path, PathBuf};
 pub struct Written {
     /// Paths written.
     pub files: Vec<PathBuf>,
+    /// The estimated error of every cut profile: `(cut, theta in degrees,
+    /// fraction of the profile's max |stress|)` ([`estimate::cut_error`]).
+    pub estimated_error: Vec<(String, f64, f64)>,
+    /// The estimated relative error of the whole field in the energy norm.
+    pub energy_error: f64,
 }
 
 /// The materials of a saved solution's bodies.
@@ -124,6 +129,9 @@ pub fn write_report(
     };
     let (length, stress) = (&scene.units.length, &scene.units.stress);
     let mut written = Written::default();
+    let estimate = estimate::Estimate::new(&field);
+    written.estimated_error = estimate::cut_errors(&field, &estimate, &locator, &scene.cuts);
+    written.energy_error = estimate.relative();
     let mut add = |name: String| written.files.push(name.into());
     for cut in &scene.cuts {
         let mut series = Vec::new();
