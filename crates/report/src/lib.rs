@@ -35,6 +35,7 @@ pub use error::ReportError;
 use axijoint_solver::driver::LoadPath;
 use axijoint_solver::iteration::IterationRecord;
 use axijoint_solver::results::{read_joint_field, SavedSolution};
+use axijoint_solver::scene::VtuSections;
 use std::path::{Path, PathBuf};
 
 /// Files written by [`write_report`], relative to the solution folder.
@@ -276,7 +277,15 @@ pub fn write_report(
     }
     if outputs.vtu {
         let path = dir.join("field.vtu");
-        vtu::write_vtu(&path, &field, outputs.vtu_sections, joints.as_ref())?;
+        let n_sections = match outputs.vtu_sections {
+            VtuSections::Count(n) => n,
+            VtuSections::Auto => {
+                let m_max = field.u.harmonics.iter().map(|h| h.m as usize).max().unwrap_or(0);
+                vtu::auto_sections(field.mesh, m_max)
+            }
+        };
+        let fields: Vec<&str> = outputs.vtu_fields.iter().map(String::as_str).collect();
+        vtu::write_vtu(&path, &field, n_sections, &fields, joints.as_ref())?;
         add("field.vtu".into());
         if joints.is_some() && !saved.mesh.joints.is_empty() {
             add(vtu::joints_path(&path)

@@ -1,5 +1,5 @@
-//! Views: the revolved `.vtu` (read back with vtkio, an independent reader)
-//! and the gmsh view (opened by gmsh itself).
+//! Views: the revolved `.vtu` (read back with `vtu::read_vtu`; meshio reads
+//! it in tests/vtu_meshio_e2e.rs) and the gmsh view (opened by gmsh itself).
 //!
 //! - Pure bending of a cylinder (docs/theory.md section 15), every meridional cell
 //!   kind: point and cell counts per VTK type, the displacement at every
@@ -8,30 +8,33 @@
 //!   VTK's outward face tables, and the sum equal to the revolved volume.
 //! - Scene P (the real pipeline): the joint file with states in {0, 1, 2},
 //!   the mirror mapping of the half-circle sections, the stress jump across
-//!   the joint kept, and the gmsh view opened by gmsh without error.
+//!   the joint kept, only the point arrays asked for, and the gmsh view
+//!   opened by gmsh without error.
 //! - A non-finite value: no file at all.
 
 use axijoint_mesh::{prepare, CellKind, Mesh};
 use axijoint_report::field::Field;
 use axijoint_report::gmsh_view::{view_name, write_gmsh_view};
-use axijoint_report::vtu::{joints_path, write_vtu};
+use axijoint_report::vtu::{auto_sections, joints_path, read_vtu, write_vtu};
 use axijoint_report::ReportError;
 use axijoint_solver::driver::{solve_scene, Displacements, HarmonicDisplacement};
 use axijoint_solver::material::Elastic;
 use axijoint_solver::results::JointFieldFile;
-use axijoint_solver::scene::Scene;
+use axijoint_solver::scene::{Outputs, Scene};
 use std::collections::HashMap;
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 use std::process::Command;
-use vtkio::model::{Attribute, DataSet, VertexNumbers};
+
+/// Every point array.
+const ALL: [&str; 5] = Outputs::VTU_FIELDS;
 
 fn geo(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../geo").join(name)
 }
 
 // ---------------------------------------------------------------------------
-// Reading a .vtu back with vtkio.
+// Reading a .vtu back (vtu::read_vtu; tests/vtu_meshio_e2e.rs reads it with meshio).
 
 struct Vtu {
     points: Vec<[f64; 3]>,
@@ -44,27 +47,19 @@ struct Vtu {
 
 impl Vtu {
     fn read(path: &Path) -> Vtu {
-        let vtk = vtkio::Vtk::import(path)
-            .unwrap_or_else(|e| panic!("vtkio cannot read {}: {e:?}", path.display()));
-        let DataSet::UnstructuredGrid { pieces, .. } = vtk.data else {
-            panic!("not an unstructured grid")
+        let file = read_vtu(path).unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
+        let values = |parent: &str, name: &str| -> Vec<f64> {
+            file.array(parent, name)
+                .unwrap_or_else(|| panic!("no {parent} {name}"))
+                .values()
+                .unwrap()
         };
-        assert_eq!(pieces.len(), 1, "one piece");
-        let piece = pieces
-            .into_iter()
-            .next()
-            .unwrap()
-            .into_loaded_piece_data(None)
-            .expect("inline piece");
-        let xyz: Vec<f64> = piece.points.cast_into().expect("points");
+        let xyz = values("Points", "Points");
         let points: Vec<[f64; 3]> = xyz.chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
-        let VertexNumbers::XML {
-            connectivity,
-            offsets,
-        } = piece.cells.cell_verts
-        else {
-            panic!("XML cells expected")
-        };
+        assert_eq!(points.len(), file.n_points);
+        let connectivity = values("Cells", "connectivity");
+        let offsets = values("Cells", "offsets");
+        assert_eq!(offsets.len(), file.n_cells);
         let mut cells = Vec::new();
         let mut start = 0usize;
         for &end in &offsets {
@@ -76,27 +71,20 @@ impl Vtu {
             );
             start = end as usize;
         }
-        let types = piece.cells.types.iter().map(|t| *t as u8).collect();
-        let arrays = |attrs: Vec<Attribute>| -> HashMap<String, (usize, Vec<f64>)> {
-            attrs
-                .into_iter()
-                .map(|a| match a {
-                    Attribute::DataArray(d) => {
-                        let k = d.num_comp();
-                        (d.name, (k, d.data.cast_into::<f64>().expect("numeric array")))
-                    }
-                    Attribute::Field { name, .. } => panic!("unexpected field data {name}"),
-                })
+        let types = values("Cells", "types").iter().map(|&t| t as u8).collect();
+        let arrays = |parent: &str| -> HashMap<String, (usize, Vec<f64>)> {
+            file.arrays
+                .iter()
+                .filter(|a| a.parent == parent)
+                .map(|a| (a.name.clone(), (a.components, a.values().unwrap())))
                 .collect()
         };
-        let point = arrays(piece.data.point);
-        let cell = arrays(piece.data.cell);
         Vtu {
             points,
             cells,
             types,
-            point,
-            cell,
+            point: arrays("PointData"),
+            cell: arrays("CellData"),
         }
     }
 
@@ -612,7 +600,7 @@ fn bending_cylinder_vtu() {
             initial: None,
         };
         let path = dir.path().join(format!("bending_{}.vtu", kind.name()));
-        write_vtu(&path, &field, n, None).unwrap();
+        write_vtu(&path, &field, n, &ALL, None).unwrap();
         assert!(!joints_path(&path).exists(), "no joint file without joints");
         let vtu = Vtu::read(&path);
         vtu.no_nan();
@@ -747,7 +735,7 @@ fn non_finite_values_leave_no_file() {
     let vtu = dir.path().join("bad.vtu");
     let msh = dir.path().join("bad.msh");
     assert!(matches!(
-        write_vtu(&vtu, &field, 8, None),
+        write_vtu(&vtu, &field, 8, &ALL, None),
         Err(ReportError::NotFinite { .. })
     ));
     assert!(matches!(
@@ -755,9 +743,13 @@ fn non_finite_values_leave_no_file() {
         Err(ReportError::NotFinite { .. })
     ));
     assert!(matches!(
-        write_vtu(&vtu, &field, 2, None),
+        write_vtu(&vtu, &field, 2, &ALL, None),
         Err(ReportError::Input(_))
     ));
+    match write_vtu(&vtu, &field, 8, &["sigma_zz"], None) {
+        Err(ReportError::Input(m)) => assert!(m.contains("unknown array 'sigma_zz'"), "{m}"),
+        other => panic!("unknown array accepted: {other:?}"),
+    }
     let left: Vec<_> = std::fs::read_dir(dir.path()).unwrap().collect();
     assert!(left.is_empty(), "files left behind: {left:?}");
 }
@@ -845,7 +837,7 @@ fn scene_p_views() {
     // --- VTU with the joint file.
     let n = 16;
     let path = dir.path().join("scene_p.vtu");
-    write_vtu(&path, &field, n, Some(&jf)).unwrap();
+    write_vtu(&path, &field, n, &ALL, Some(&jf)).unwrap();
     let vtu = Vtu::read(&path);
     vtu.no_nan();
     // Points per body, not shared between bodies.
@@ -919,6 +911,23 @@ fn scene_p_views() {
         .sum::<f64>()
         .sqrt();
     assert!(gap > 0.0);
+
+    // Only the arrays asked for, in the order of Outputs::VTU_FIELDS, the
+    // same values; "auto" gives these 16 sections for M = 4 and Q9 cells.
+    assert_eq!(auto_sections(mesh, 4), n);
+    let some = dir.path().join("some.vtu");
+    write_vtu(&some, &field, n, &["von_mises", "displacement"], None).unwrap();
+    let file = read_vtu(&some).unwrap();
+    let names: Vec<&str> = file
+        .arrays
+        .iter()
+        .filter(|a| a.parent == "PointData")
+        .map(|a| a.name.as_str())
+        .collect();
+    assert_eq!(names, ["displacement", "von_mises"]);
+    let values = |name: &str| file.array("PointData", name).unwrap().values().unwrap();
+    assert_eq!(values("displacement"), disp);
+    assert_eq!(values("von_mises"), vtu.point_array("von_mises", 1));
 
     // The joint file.
     let jpath = joints_path(&path);
@@ -1089,7 +1098,7 @@ fn scene_p_linear_joint_quads() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("p1.vtu");
     let n = 8;
-    write_vtu(&path, &field, n, Some(&jf)).unwrap();
+    write_vtu(&path, &field, n, &ALL, Some(&jf)).unwrap();
     let vtu = Vtu::read(&path);
     vtu.no_nan();
     assert_eq!(vtu.count(13), n * mesh.cells.len());

@@ -8,7 +8,9 @@
 
 use axijoint_mesh::{prepare, JointKind, Mesh};
 use axijoint_solver::elements::{JointRule, JointSprings};
-use axijoint_solver::scene::{Family, Fix, JointLaw, Load, RuleKind, Scene, SceneError, ShearCheck};
+use axijoint_solver::scene::{
+    Family, Fix, JointLaw, Load, RuleKind, Scene, SceneError, ShearCheck, VtuSections,
+};
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
@@ -193,7 +195,11 @@ fn defaults_of_a_minimal_scene() {
     assert_eq!(scene.solver.epsilon, 1e-6);
     assert_eq!(scene.solver.max_iterations, 500);
     assert!(scene.outputs.csv && scene.outputs.plots && scene.outputs.vtu && scene.outputs.gmsh_views);
-    assert_eq!(scene.outputs.vtu_sections, 24);
+    assert_eq!(scene.outputs.vtu_sections, VtuSections::Auto);
+    assert_eq!(
+        scene.outputs.vtu_fields,
+        ["displacement", "sigma_cyl", "von_mises"]
+    );
     assert_eq!(scene.theta_sections(false).unwrap().theta, vec![0.0]);
     match &scene.loads[0] {
         Load::Traction(t) => {
@@ -268,6 +274,32 @@ fn unknown_key_is_named_with_its_path() {
     );
     let e = error_of(&edited(r#""harmonics": 4"#, r#""harmonic": 4"#));
     assert_error(&e, "harmonic", &["unknown field `harmonic`"]);
+}
+
+#[test]
+fn vtu_sections_and_fields_are_checked() {
+    let with = |extra: &str| {
+        edited(
+            r#""outputs": {"csv": true, "plots": true, "vtu": true, "gmsh_views": true}"#,
+            &format!(r#""outputs": {{"vtu": true, {extra}}}"#),
+        )
+    };
+    let scene = parse(&with(r#""vtu_sections": "auto""#)).unwrap();
+    assert_eq!(scene.outputs.vtu_sections, VtuSections::Auto);
+    let scene = parse(&with(r#""vtu_sections": 12, "vtu_fields": ["stress"]"#)).unwrap();
+    scene.check(mesh_p()).unwrap();
+    assert_eq!(scene.outputs.vtu_sections, VtuSections::Count(12));
+    assert_eq!(scene.outputs.vtu_fields, ["stress"]);
+    let text = serde_json::to_string(&scene.outputs).unwrap();
+    assert!(text.contains(r#""vtu_sections":12"#), "{text}");
+    let auto = serde_json::to_string(&VtuSections::Auto).unwrap();
+    assert_eq!(auto, r#""auto""#);
+    let e = error_of(&with(r#""vtu_sections": 2"#));
+    assert_error(&e, "outputs.vtu_sections", &["at least 3", "auto"]);
+    let e = error_of(&with(r#""vtu_sections": "fine""#));
+    assert_error(&e, "outputs.vtu_sections", &["fine", "\"auto\""]);
+    let e = error_of(&with(r#""vtu_fields": ["stress", "sigma_zz"]"#));
+    assert_error(&e, "outputs.vtu_fields", &["'sigma_zz'", "von_mises"]);
 }
 
 #[test]

@@ -504,9 +504,13 @@ pub struct Outputs {
     /// ParaView `.vtu` of the field revolved in 3D.
     #[serde(default = "yes")]
     pub vtu: bool,
-    /// Sections of the turn in the `.vtu`.
-    #[serde(default = "Outputs::default_vtu_sections")]
-    pub vtu_sections: usize,
+    /// Sections of the turn in the `.vtu`: a number, or `"auto"` (the
+    /// default) for as many as the highest harmonic needs.
+    #[serde(default)]
+    pub vtu_sections: VtuSections,
+    /// Point arrays of `field.vtu`, from [`Outputs::VTU_FIELDS`].
+    #[serde(default = "Outputs::default_vtu_fields")]
+    pub vtu_fields: Vec<String>,
     /// gmsh post-processing view of the meridional fields at the cuts' angles.
     #[serde(default = "yes")]
     pub gmsh_views: bool,
@@ -517,8 +521,62 @@ fn yes() -> bool {
 }
 
 impl Outputs {
-    fn default_vtu_sections() -> usize {
-        24
+    /// Point arrays `field.vtu` can hold.
+    pub const VTU_FIELDS: [&'static str; 5] = [
+        "displacement",
+        "displacement_cyl",
+        "stress",
+        "sigma_cyl",
+        "von_mises",
+    ];
+
+    fn default_vtu_fields() -> Vec<String> {
+        ["displacement", "sigma_cyl", "von_mises"]
+            .map(String::from)
+            .to_vec()
+    }
+}
+
+/// Sections of the turn in the `.vtu`: `"auto"` or a number.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum VtuSections {
+    /// Enough for the highest harmonic solved (the report chooses).
+    #[default]
+    Auto,
+    /// This many.
+    Count(usize),
+}
+
+impl Serialize for VtuSections {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match self {
+            VtuSections::Auto => s.serialize_str("auto"),
+            VtuSections::Count(n) => s.serialize_u64(*n as u64),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for VtuSections {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl Visitor<'_> for V {
+            type Value = VtuSections;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a number of sections or \"auto\"")
+            }
+            fn visit_u64<E: de::Error>(self, n: u64) -> Result<VtuSections, E> {
+                usize::try_from(n)
+                    .map(VtuSections::Count)
+                    .map_err(|_| E::custom("too many sections"))
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<VtuSections, E> {
+                match v {
+                    "auto" => Ok(VtuSections::Auto),
+                    _ => Err(E::invalid_value(de::Unexpected::Str(v), &self)),
+                }
+            }
+        }
+        d.deserialize_any(V)
     }
 }
 
@@ -528,7 +586,8 @@ impl Default for Outputs {
             csv: true,
             plots: true,
             vtu: true,
-            vtu_sections: Outputs::default_vtu_sections(),
+            vtu_sections: VtuSections::Auto,
+            vtu_fields: Outputs::default_vtu_fields(),
             gmsh_views: true,
         }
     }
