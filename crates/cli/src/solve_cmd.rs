@@ -1,5 +1,7 @@
 //! `axijoint solve` and `axijoint run`.
 
+mod adapt;
+
 use anyhow::{Context, Result};
 use axijoint_report::cuts::profile_values;
 use axijoint_solver::driver::{
@@ -94,7 +96,11 @@ pub fn solve_and_write(scene_path: &Path, common: &CommonArgs) -> Result<(Scene,
         .output
         .clone()
         .unwrap_or_else(|| default_output(scene_path));
-    let header = solve_to(&scene, &out, common.quiet)?;
+    let header = if scene.mesh.adapt.is_some() {
+        adapt::solve_adaptive(&scene, &out, common.quiet)?
+    } else {
+        solve_to(&scene, &out, common.quiet)?
+    };
     print_summary(scene_path, &scene, &header, &out);
     Ok((scene, out, header))
 }
@@ -274,7 +280,7 @@ pub fn print_summary(path: &Path, scene: &Scene, header: &SolutionHeader, out: &
         header.mesh.nodes,
         header.mesh.elements,
         header.dofs_per_harmonic,
-        scene.harmonics()
+        header.harmonics.last().copied().unwrap_or(0)
     );
     let t = &header.timings;
     println!(
@@ -339,8 +345,14 @@ pub fn print_summary(path: &Path, scene: &Scene, header: &SolutionHeader, out: &
     if let Some(c) = header.extra.get("harmonic_check").filter(|c| !c.is_null()) {
         match (c["face_change"].as_f64(), c["area_change"].as_f64()) {
             (Some(f), Some(a)) => println!(
-                "  harmonics: 0..={} against 0..={}: loaded-face displacement changes {f:.2e}, joint open/slip area {a:.2e} (relative)",
-                c["m"], c["m_half"]
+                "  harmonics: 0..={} against 0..={}: {} changes {f:.2e}, joint open/slip area {a:.2e} (relative)",
+                c["m"],
+                c["m_half"],
+                if c["note"].is_null() {
+                    "loaded-face displacement"
+                } else {
+                    "the displacement field"
+                }
             ),
             _ => println!(
                 "  harmonics: no comparison with 0..={}: that run did not converge (reason in solution.json, extra.harmonic_check)",

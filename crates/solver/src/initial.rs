@@ -182,7 +182,8 @@ fn balance(model: &Model, load: &[f64], weight: &[f64], stress: &[f64]) -> Balan
     Balance {
         max_force,
         relative: if scale > 0.0 { max_force / scale } else { 0.0 },
-        weight: -weight.iter().skip(1).step_by(3).sum::<f64>(),
+        // `0.0 -`: no weight prints as 0, not -0.
+        weight: 0.0 - weight.iter().skip(1).step_by(3).sum::<f64>(),
         resultant_z: (0..load.len())
             .filter(|&i| i % 3 == 1 && free(i))
             .map(|i| load[i])
