@@ -93,7 +93,12 @@ fn meshio_reads_the_vtu_files() {
         .arg(&out)
         .arg(n.to_string())
         .output()
-        .unwrap_or_else(|e| panic!("cannot run {} ({e}): run scripts/setup (it makes target/venv with meshio)", py.display()));
+        .unwrap_or_else(|e| {
+            panic!(
+                "cannot run {} ({e}): run scripts/setup (it makes target/venv with meshio)",
+                py.display()
+            )
+        });
     let (stdout, stderr) = text(&script);
     assert!(
         script.status.success(),
@@ -105,13 +110,28 @@ fn meshio_reads_the_vtu_files() {
     for (stem, cell_type) in [("field", "hexahedron27"), ("field_joints", "quad9")] {
         let ours = read_vtu(&out.join(format!("{stem}.vtu"))).unwrap();
         let theirs = &m[stem];
-        assert_eq!(theirs["points"].as_u64().unwrap() as usize, ours.n_points, "{stem}");
-        assert_eq!(theirs["cells"], serde_json::json!([[cell_type, ours.n_cells]]), "{stem}");
+        assert_eq!(
+            theirs["points"].as_u64().unwrap() as usize,
+            ours.n_points,
+            "{stem}"
+        );
+        assert_eq!(
+            theirs["cells"],
+            serde_json::json!([[cell_type, ours.n_cells]]),
+            "{stem}"
+        );
         let meshio = |name: &str| f64s(&out.join(format!("meshio.{stem}.{name}.f64")));
         let values = |parent: &str, name: &str| ours.array(parent, name).unwrap().values().unwrap();
         assert_eq!(meshio("points"), values("Points", "Points"), "{stem} points");
-        assert_eq!(meshio("connectivity"), values("Cells", "connectivity"), "{stem} connectivity");
-        for (parent, prefix, key) in [("PointData", "point", "point_data"), ("CellData", "cell", "cell_data")] {
+        assert_eq!(
+            meshio("connectivity"),
+            values("Cells", "connectivity"),
+            "{stem} connectivity"
+        );
+        for (parent, prefix, key) in [
+            ("PointData", "point", "point_data"),
+            ("CellData", "cell", "cell_data"),
+        ] {
             let mut names: Vec<&str> = ours
                 .arrays
                 .iter()
@@ -121,7 +141,11 @@ fn meshio_reads_the_vtu_files() {
             names.sort();
             assert_eq!(theirs[key], serde_json::json!(names), "{stem} {parent}");
             for name in names {
-                assert_eq!(meshio(&format!("{prefix}.{name}")), values(parent, name), "{stem} {name}");
+                assert_eq!(
+                    meshio(&format!("{prefix}.{name}")),
+                    values(parent, name),
+                    "{stem} {name}"
+                );
             }
         }
     }
@@ -137,5 +161,8 @@ fn meshio_reads_the_vtu_files() {
         header["max_displacement"].as_f64().unwrap(),
     );
     assert!(m["ring_points"].as_u64().unwrap() > 0);
-    assert!(solver > 0.0 && (ours - solver).abs() <= 1e-12 * solver, "{ours} vs {solver}");
+    assert!(
+        solver > 0.0 && (ours - solver).abs() <= 1e-12 * solver,
+        "{ours} vs {solver}"
+    );
 }

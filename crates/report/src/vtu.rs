@@ -8,7 +8,8 @@
 //! Point `(r, z)` at angle theta is `(x, y, z) = (r cos theta, r sin theta,
 //! z)`: theta = 0 is +x, as in the solver. Quadratic cells stay quadratic; the
 //! revolution then needs a ring of points at the mid angles
-//! `theta_{k+1/2}`, placed on the true circle.
+//! `theta_{k+1/2}`, placed on the true circle. The report takes `n` from
+//! `outputs.vtu_sections`, by default [`auto_sections`].
 //!
 //! | meridional | VTK cell (type) | nodes |
 //! |---|---|---|
@@ -34,6 +35,8 @@
 //! cells next to the axis are degenerate (a zero-area face), which ParaView
 //! draws and filters without complaint, and each duplicate carries the value
 //! of its own section.
+//!
+//! The point data holds the arrays asked for (`outputs.vtu_fields`), from:
 //!
 //! | point data | components |
 //! |---|---|
@@ -74,14 +77,15 @@
 //! # Encoding
 //!
 //! VTK XML 1.0, `header_type="UInt64"`, little-endian,
-//! `compressor="vtkZLibDataCompressor"`: every array inline
-//! (`format="binary"`), cut into blocks of 32 KiB, each compressed with zlib;
-//! the header `[nb][nu][np][nc_1 .. nc_nb]` (UInt64) is one base64 stream and
-//! the compressed blocks a second one, as VTK writes them ([`decode_array`]
-//! reads them back). Appended raw data would be a quarter smaller, but vtkio
-//! (the tests' independent reader) cannot read raw appended data. Files are written under a temporary name and renamed into place;
-//! a non-finite value fails with [`ReportError::NotFinite`] before anything
-//! is written.
+//! `compressor="vtkZLibDataCompressor"`: every `DataArray` is
+//! `format="appended"` with its `offset` into `<AppendedData
+//! encoding="raw">`, whose bytes follow its `_` marker. An array there is
+//! its UInt64 header `[nb][nu][np][nc_1 .. nc_nb]` (blocks, 32 KiB block
+//! size, last block's size or 0, compressed sizes) then its zlib blocks, as
+//! VTK writes them; a quarter smaller than inline base64. [`read_vtu`] (and
+//! [`decode_array`], for one array) reads them back. Files are written under
+//! a temporary name and renamed into place; a non-finite value fails with
+//! [`ReportError::NotFinite`] before anything is written.
 
 use crate::field::{Field, STRESS_NAMES};
 use crate::ReportError;
@@ -142,9 +146,10 @@ fn samples_per_turn(m_max: usize) -> usize {
 }
 
 /// The sections `outputs.vtu_sections = "auto"` gives for a field whose
-/// highest harmonic is `m_max`: [`samples_per_turn`] sections for linear
-/// cells, half as many when every cell is quadratic (each section then has
-/// a ring at its mid angle too), i.e. `max(8, 4 M)`.
+/// highest harmonic is `m_max`: 8 samples of the turn per period of
+/// harmonic `m_max`, 16 at least, i.e. `max(16, 8 M)` sections for linear
+/// cells and half as many, `max(8, 4 M)`, when every cell is quadratic
+/// (each section then has a ring at its mid angle too).
 pub fn auto_sections(mesh: &Mesh, m_max: usize) -> usize {
     let quadratic = mesh.cells.iter().all(|c| !mid_ring_nodes(c.kind).is_empty());
     samples_per_turn(m_max) / if quadratic { 2 } else { 1 }
