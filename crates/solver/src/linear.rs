@@ -1,8 +1,14 @@
 //! The linear model: pattern and symbolic factorization once, one numeric
 //! Cholesky per harmonic, many right-hand sides per factor.
+//!
+//! Several harmonics factorized together take their stiffness from the
+//! three arrays of [`StiffnessTerms`], assembled once per model and kept:
+//! forming `K_m` from them costs a few percent of an element-by-element
+//! assembly (docs/performance.md).
 
 use crate::assembly::{
-    for_each_element, for_each_element_where, scatter, ElementScratch, JointModel, Pattern,
+    for_each_element, for_each_element_where, pin_axis_rows, scatter, ElementScratch, JointModel, Pattern,
+    StiffnessTerms,
 };
 use crate::dofs::DofMap;
 use crate::factor::{solve_interleaved, solve_trailing, solve_with_faer};
@@ -16,7 +22,12 @@ use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, SymbolicCholes
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Mat, Side};
 use rayon::prelude::*;
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
+
+/// [`Model::factorize_all`] assembles the [`StiffnessTerms`] when it
+/// factorizes at least this many harmonics: they cost about 1.5
+/// assemblies of one harmonic (docs/performance.md).
+pub const TERMS_FROM: usize = 2;
 
 /// Errors of the linear solve.
 #[derive(Debug, thiserror::Error)]
@@ -80,6 +91,8 @@ pub struct Model {
     trailing: Vec<usize>,
     /// Position of each equation in `trailing` (`usize::MAX` if absent).
     trail_pos: Vec<usize>,
+    /// `A`, `B`, `C` of `K_m = c_m (A + m B + m^2 C)`, once assembled.
+    terms: Mutex<Option<Arc<StiffnessTerms>>>,
 }
 
 impl Model {
@@ -150,6 +163,7 @@ impl Model {
             joint_nodes: joint_node_list,
             trailing,
             trail_pos,
+            terms: Mutex::new(None),
         })
     }
 
@@ -218,7 +232,8 @@ impl Model {
         self.pattern.nnz()
     }
 
-    /// Assembled values (upper triangle, pattern order) of harmonic `m`.
+    /// Assembled values (upper triangle, pattern order) of harmonic `m`,
+    /// element by element, and the pinned equations.
     pub fn assemble(&self, m: u32) -> (Vec<f64>, Vec<bool>) {
         let pinned = self.dofs.pinned(m);
         let mut values = vec![0.0; self.pattern.nnz()];
@@ -231,34 +246,76 @@ impl Model {
             &mut scratch,
             |nodes, ke| scatter(&self.pattern, &self.dofs, &pinned, nodes, ke, &mut values),
         );
-        // Identity rows (scaled) for the pinned axis variables.
-        let free_diag: Vec<f64> = (0..self.pattern.n)
-            .filter(|&e| !pinned[e])
-            .map(|e| values[self.pattern.slot(e, e)].abs())
-            .collect();
-        let scale = if free_diag.is_empty() {
-            1.0
-        } else {
-            free_diag.iter().sum::<f64>() / free_diag.len() as f64
-        };
-        for (e, &p) in pinned.iter().enumerate() {
-            if p {
-                values[self.pattern.slot(e, e)] = scale;
-            }
-        }
+        pin_axis_rows(&self.pattern, &pinned, &mut values);
         (values, pinned)
     }
 
-    /// Assembles and factorizes harmonic `m`, and checks the factor with a
-    /// probe solve (a mechanism shows as a large probe error).
+    /// [`Model::assemble`] from the [`StiffnessTerms`] (assembled first if
+    /// this model has none for its current materials and joints).
+    pub fn assemble_from_terms(&self, m: u32) -> (Vec<f64>, Vec<bool>) {
+        self.terms_from(&self.stiffness_terms(), m)
+    }
+
+    fn terms_from(&self, terms: &StiffnessTerms, m: u32) -> (Vec<f64>, Vec<bool>) {
+        let pinned = self.dofs.pinned(m);
+        let mut values = terms.harmonic(&self.pattern, m, &pinned);
+        pin_axis_rows(&self.pattern, &pinned, &mut values);
+        (values, pinned)
+    }
+
+    /// The model's [`StiffnessTerms`], assembled on the first call (and
+    /// again if `materials` or `joints` changed since).
+    pub fn stiffness_terms(&self) -> Arc<StiffnessTerms> {
+        let mut slot = self.terms.lock().unwrap_or_else(|e| e.into_inner());
+        match &*slot {
+            Some(t) if t.matches(&self.materials, &self.joints) => t.clone(),
+            _ => {
+                let t = Arc::new(StiffnessTerms::assemble(
+                    &self.mesh,
+                    &self.materials,
+                    &self.joints,
+                    &self.dofs,
+                    &self.pattern,
+                ));
+                *slot = Some(t.clone());
+                t
+            }
+        }
+    }
+
+    /// The stiffness terms if they are assembled and current.
+    fn current_terms(&self) -> Option<Arc<StiffnessTerms>> {
+        let slot = self.terms.lock().unwrap_or_else(|e| e.into_inner());
+        slot.as_ref()
+            .filter(|t| t.matches(&self.materials, &self.joints))
+            .cloned()
+    }
+
+    /// Assembles and factorizes harmonic `m` (from the [`StiffnessTerms`]
+    /// when the model has them, else element by element), and checks the
+    /// factor with a probe solve (a mechanism shows as a large probe error).
     pub fn factorize(&self, m: u32) -> Result<HarmonicFactor, SolveError> {
-        let (values, pinned) = self.assemble(m);
+        let (values, pinned) = match self.current_terms() {
+            Some(terms) => self.terms_from(&terms, m),
+            None => self.assemble(m),
+        };
+        self.factorize_values(m, &values, pinned)
+    }
+
+    /// Factorizes harmonic `m` from its assembled `values` and `pinned`
+    /// equations (as [`Model::assemble`] returns them).
+    pub fn factorize_values(
+        &self,
+        m: u32,
+        values: &[f64],
+        pinned: Vec<bool>,
+    ) -> Result<HarmonicFactor, SolveError> {
         let singular = |detail: String| SolveError::Singular {
             m,
             detail,
             hint: self.unsupported_hint(),
         };
-        let mat = SparseColMatRef::new(pattern_ref(&self.pattern), &values);
+        let mat = SparseColMatRef::new(pattern_ref(&self.pattern), values);
         let mut l_values = Vec::new();
         l_values
             .try_reserve_exact(self.symbolic.len_val())
@@ -298,7 +355,7 @@ impl Model {
             .map(|i| ((i as f64 + 1.0) * 0.618_033_988_75).fract() - 0.5)
             .collect();
         let mut b = vec![0.0; n];
-        self.pattern.sym_matvec(&values, &x0, &mut b);
+        self.pattern.sym_matvec(values, &x0, &mut b);
         let mut x: Vec<[f64; 1]> = b.iter().map(|&v| [v]).collect();
         solve_interleaved(&factor.symbolic, &factor.values, &mut x);
         let (mut num, mut den) = (0.0f64, 0.0f64);
@@ -313,8 +370,13 @@ impl Model {
         Ok(factor)
     }
 
-    /// Factorizes each harmonic in `ms`, in parallel.
+    /// Factorizes each harmonic in `ms`, in parallel; from [`TERMS_FROM`]
+    /// harmonics on, their stiffnesses come from the [`StiffnessTerms`]
+    /// (assembled once, kept for later calls).
     pub fn factorize_all(&self, ms: &[u32]) -> Result<Vec<HarmonicFactor>, SolveError> {
+        if ms.len() >= TERMS_FROM {
+            self.stiffness_terms();
+        }
         ms.par_iter().map(|&m| self.factorize(m)).collect()
     }
 

@@ -304,10 +304,22 @@ pub fn joint_stiffness(
     rule: JointRule,
     out: &mut DMatrix<f64>,
 ) {
+    joint_stiffness_scaled(kind, bottom_coords, k, c_m(m), rule, out);
+}
+
+/// [`joint_stiffness`] with `c_m` replaced by `cm`: `cm = 1` gives the
+/// matrix that every harmonic multiplies by its `c_m`.
+pub fn joint_stiffness_scaled(
+    kind: JointKind,
+    bottom_coords: &[[f64; 2]],
+    k: &JointSprings,
+    cm: f64,
+    rule: JointRule,
+    out: &mut DMatrix<f64>,
+) {
     let nf = face_kind(kind).n_nodes();
     let ndof = 2 * DOF_PER_NODE * nf;
     zero_matrix(out, ndof, ndof);
-    let cm = c_m(m);
     for point in joint_points(kind, bottom_coords, rule) {
         let [c, s] = point.tangent;
         // T^T k T in global (r, z, theta) components

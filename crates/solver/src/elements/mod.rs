@@ -23,12 +23,12 @@ pub mod solid;
 pub mod traction;
 
 pub use joint::{
-    add_traction_forces, joint_points, joint_stiffness, relative_displacement, JointError, JointPoint,
-    JointRule, JointSprings,
+    add_traction_forces, joint_points, joint_stiffness, joint_stiffness_scaled, relative_displacement,
+    JointError, JointPoint, JointRule, JointSprings,
 };
 pub use solid::{
-    b_matrix, b_matrix_on_axis, body_force_load, solid_stiffness, strain_at, stress_at, SolidScratch,
-    STRESS_NAMES,
+    b_matrix, b_matrix_on_axis, body_force_load, solid_stiffness, solid_stiffness_terms, strain_at,
+    stress_at, stress_forces, SolidScratch, STRESS_NAMES,
 };
 pub use traction::edge_load;
 

@@ -176,14 +176,89 @@ pub fn solid_stiffness(
         db.gemm(1.0, &d, b, 0.0);
         out.gemm_tr(cm * r * det.abs() * w, b, db, 1.0);
     }
-    // B^T (D B) is symmetric up to rounding: make it exactly so.
-    for i in 0..ndof {
-        for j in i + 1..ndof {
+    symmetrize(out);
+}
+
+/// B^T (D B) is symmetric up to rounding: make it exactly so.
+fn symmetrize(out: &mut DMatrix<f64>) {
+    for i in 0..out.nrows() {
+        for j in i + 1..out.ncols() {
             let s = 0.5 * (out[(i, j)] + out[(j, i)]);
             out[(i, j)] = s;
             out[(j, i)] = s;
         }
     }
+}
+
+/// The three m-independent parts of [`solid_stiffness`]:
+/// `K(m) = c_m (out[0] + m out[1] + m^2 out[2])`. `B = B(0) + m B_m`
+/// (module doc), where column j of `B_m` has one entry `beta_j` in row
+/// `rho_j`: `-N/r` in g_rth for u, `-N/r` in g_zth for v, `N/r` in e_th for
+/// w. Summed over the points with weight `f = w r |det J|`:
+///
+/// ```text
+/// out[0] = B(0)^T D B(0) f
+/// out[1][a][b] = ((D B(0))[rho_b][a] beta_b + (D B(0))[rho_a][b] beta_a) f
+/// out[2][a][b] = beta_a beta_b D[rho_a][rho_b] f
+/// ```
+pub fn solid_stiffness_terms(
+    kind: CellKind,
+    coords: &[[f64; 2]],
+    mat: &Elastic,
+    scratch: &mut SolidScratch,
+    out: &mut [DMatrix<f64>; 3],
+) {
+    if scratch.kind != kind {
+        *scratch = SolidScratch::new(kind);
+    }
+    let nn = kind.n_nodes();
+    let ndof = DOF_PER_NODE * nn;
+    for o in out.iter_mut() {
+        zero_matrix(o, ndof, ndof);
+    }
+    let d = mat.d_matrix();
+    // Row of B_m's entry in the column of component u, v, w, and its sign.
+    const RHO: [usize; 3] = [4, 5, 2];
+    const SIGN: [f64; 3] = [-1.0, -1.0, 1.0];
+    let mut beta = [0.0; DOF_PER_NODE * MAX_CELL_NODES];
+    let SolidScratch {
+        rule,
+        n,
+        dn,
+        dn_rz,
+        b,
+        db,
+        ..
+    } = scratch;
+    let [o0, o1, o2] = out;
+    for (q, w) in rule.weights.iter().enumerate() {
+        let (nq, dnq) = (&n[q * nn..(q + 1) * nn], &dn[q * nn..(q + 1) * nn]);
+        let (jac, det) = jacobian(kind, coords, dnq);
+        derivatives_rz(&jac, det, dnq, dn_rz);
+        let r = interpolate(&coords[..nn], nq)[0];
+        b_matrix(0, nq, dn_rz, r, b);
+        db.gemm(1.0, &d, b, 0.0);
+        let f = r * det.abs() * w;
+        o0.gemm_tr(f, b, db, 1.0);
+        for (j, bj) in beta[..ndof].iter_mut().enumerate() {
+            *bj = SIGN[j % 3] * nq[j / 3] / r;
+        }
+        for a in 0..ndof {
+            let (ra, ba) = (RHO[a % 3], beta[a]);
+            for bb in a..ndof {
+                let (rb, bv) = (RHO[bb % 3], beta[bb]);
+                o1[(a, bb)] += f * (db[(rb, a)] * bv + db[(ra, bb)] * ba);
+                o2[(a, bb)] += f * (ba * bv * d[(ra, rb)]);
+            }
+        }
+    }
+    for a in 0..ndof {
+        for bb in a + 1..ndof {
+            o1[(bb, a)] = o1[(a, bb)];
+            o2[(bb, a)] = o2[(a, bb)];
+        }
+    }
+    symmetrize(o0);
 }
 
 /// Consistent nodal forces of a body force of harmonic `m` with amplitudes
@@ -212,6 +287,44 @@ pub fn body_force_load(kind: CellKind, coords: &[[f64; 2]], m: u32, b: [f64; 3],
             for c in 0..DOF_PER_NODE {
                 out[DOF_PER_NODE * i + c] += scale * ni * b[c];
             }
+        }
+    }
+}
+
+/// Nodal forces of an axisymmetric stress field `sigma(r, z)` (harmonic 0,
+/// the order of [`STRESS_NAMES`]) on one cell, added to `out` (node-major,
+/// `3 n`): the internal forces it exerts,
+///
+/// ```text
+/// f += c_0 * sum_q B_0(q)^T sigma(q) r(q) |det J(q)| w_q
+/// ```
+///
+/// with the rule of [`default_rule`]. Equal to `K_0 u` when `sigma` is the
+/// stress of the displacements u.
+pub fn stress_forces(
+    kind: CellKind,
+    coords: &[[f64; 2]],
+    sigma: impl Fn([f64; 2]) -> [f64; 6],
+    out: &mut [f64],
+) {
+    let rule = default_rule(kind);
+    let nn = kind.n_nodes();
+    let mut n = [0.0; MAX_CELL_NODES];
+    let mut dn = [[0.0; 2]; MAX_CELL_NODES];
+    let mut drz = [[0.0; 2]; MAX_CELL_NODES];
+    let mut b = DMatrix::zeros(6, DOF_PER_NODE * nn);
+    for (xi, w) in rule.points.iter().zip(rule.weights) {
+        kind.eval_n(*xi, &mut n[..nn]);
+        kind.eval_dn(*xi, &mut dn[..nn]);
+        let (jac, det) = jacobian(kind, coords, &dn[..nn]);
+        derivatives_rz(&jac, det, &dn[..nn], &mut drz[..nn]);
+        let x = interpolate(&coords[..nn], &n[..nn]);
+        b_matrix(0, &n[..nn], &drz[..nn], x[0], &mut b);
+        let s = sigma(x);
+        let scale = c_m(0) * x[0] * det.abs() * w;
+        for col in 0..DOF_PER_NODE * nn {
+            let v: f64 = (0..6).map(|row| b[(row, col)] * s[row]).sum();
+            out[col] += scale * v;
         }
     }
 }
