@@ -23,6 +23,19 @@ pub struct ReportArgs {
 /// curves; `compare` adds other runs' convergence, every run then labelled
 /// by [`run_labels`].
 pub fn report(dir: &Path, compare: &[PathBuf]) -> Result<()> {
+    let files = write_outputs(dir, compare)?;
+    print_estimates(dir);
+    println!(
+        "  report: {} files in {} (index: summary.json)",
+        files.len(),
+        dir.display()
+    );
+    Ok(())
+}
+
+/// [`report`] without printing: returns the files of the folder, as in
+/// `summary.json`.
+pub fn write_outputs(dir: &Path, compare: &[PathBuf]) -> Result<Vec<String>> {
     let saved = read_solution(dir)?;
     let companion_dir = dir.join(crate::solve_cmd::WITHOUT_JOINTS);
     let companion = if companion_dir.join("solution.json").is_file() {
@@ -101,13 +114,7 @@ pub fn report(dir: &Path, compare: &[PathBuf]) -> Result<()> {
     let tmp = dir.join(".summary.json.partial");
     std::fs::write(&tmp, serde_json::to_string_pretty(&summary)?)?;
     std::fs::rename(&tmp, &path)?;
-    print_estimates(dir);
-    println!(
-        "  report: {} files in {} (index: summary.json)",
-        files.len(),
-        dir.display()
-    );
-    Ok(())
+    Ok(files)
 }
 
 /// Above this estimated error of a profile the console warns.

@@ -1,0 +1,131 @@
+"""The Python package against the axijoint binary (run by scripts/test after
+`cargo test`, with target/venv from scripts/setup)."""
+
+import json
+import math
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import axijoint
+
+ROOT = Path(__file__).resolve().parents[3]
+BINARY = ROOT / "target" / "release" / "axijoint"
+SCENE = "geo/pile_footing.json"
+COARSE = 0.5  # mesh.parameters.size: Scene P in well under a second
+
+
+@pytest.fixture(autouse=True)
+def in_root(monkeypatch):
+    monkeypatch.chdir(ROOT)
+
+
+def close(a, b, path="summary"):
+    """Equal JSON values, numbers to 1e-9 relative."""
+    if isinstance(a, float) or isinstance(b, float):
+        assert isinstance(a, (int, float)) and isinstance(b, (int, float)), path
+        assert math.isclose(a, b, rel_tol=1e-9, abs_tol=1e-15), f"{path}: {a} != {b}"
+    elif isinstance(a, dict):
+        assert isinstance(b, dict) and a.keys() == b.keys(), f"{path}: keys {sorted(a)} != {sorted(b)}"
+        for k in a:
+            close(a[k], b[k], f"{path}.{k}")
+    elif isinstance(a, list):
+        assert isinstance(b, list) and len(a) == len(b), f"{path}: lengths differ"
+        for i, (x, y) in enumerate(zip(a, b)):
+            close(x, y, f"{path}[{i}]")
+    else:
+        assert a == b, f"{path}: {a!r} != {b!r}"
+
+
+def test_run_equals_the_binary(tmp_path):
+    cli = tmp_path / "cli"
+    subprocess.run(
+        [BINARY, "run", SCENE, "--set", f"size={COARSE}", "-o", cli, "--quiet"],
+        check=True,
+        stdout=subprocess.DEVNULL,
+    )
+    expected = json.loads((cli / "summary.json").read_text())
+
+    r = axijoint.run(SCENE, tmp_path / "py", overrides={"mesh.parameters.size": COARSE})
+    close(r.summary, expected)
+    assert r.summary["converged"] is True and r.exit_status == 0
+
+    # The same files, read through the result.
+    cut = r.cut("a-a", 0)
+    assert list(cut.columns)[:5] == ["s [m]", "r [m]", "z [m]", "theta [deg]", "body"]
+    np.testing.assert_array_equal(cut.to_numpy(), __import__("pandas").read_csv(cli / "cut_a-a_theta0.csv").to_numpy())
+    joint = r.joint("pile_side")
+    assert set(joint["state"]) <= {"stick", "slip", "open"}
+    u = r.displacement
+    h = r.solution
+    assert list(u.shape) == h["displacement"]["shape"] == [len(h["harmonics"]), 2, h["mesh"]["nodes"], 3]
+    np.testing.assert_array_equal(u, np.fromfile(cli / "displacement.f64", "<f8").reshape(u.shape))
+
+
+def test_dict_scene_and_keyword_overrides(tmp_path):
+    scene = json.loads((ROOT / SCENE).read_text())
+    r = axijoint.run(scene, base_dir=ROOT / "geo", mesh__parameters__size=COARSE, harmonics=2, report=False)
+    assert r.summary is None
+    assert r.solution["harmonics"] == [0, 1, 2]
+    assert r.solution["scene_file"].endswith(axijoint.DICT_SCENE_NAME)
+    folder = r.folder
+    assert folder.is_dir()
+    r.close()
+    assert not folder.exists()
+
+
+def test_bad_scene_raises_the_binarys_message(tmp_path):
+    # A value out of range: the message names the key path.
+    with pytest.raises(axijoint.InputError) as e:
+        axijoint.run(SCENE, overrides={"mesh.parameters.size": COARSE, "joints.pile_side.law.cohesion": -1})
+    assert e.value.exit_status == 1
+    assert "joints.pile_side.law.cohesion" in str(e.value)
+    assert isinstance(e.value, axijoint.Error)
+
+    # A misspelt key, the same file given to the binary: the same message.
+    scene = json.loads((ROOT / SCENE).read_text())
+    scene["materials"]["pile"]["poisson"] = scene["materials"]["pile"].pop("nu")
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps(scene, indent=2))
+    cli = subprocess.run([BINARY, "run", bad, "-o", tmp_path / "cli"], capture_output=True, text=True)
+    assert cli.returncode == 1
+    with pytest.raises(axijoint.Error) as e:
+        axijoint.run(bad, tmp_path / "py")
+    assert "materials.pile.poisson" in str(e.value)
+    assert cli.stderr.strip() == f"error: {e.value}"
+    assert e.value.exit_status == cli.returncode
+
+    # An override whose path does not exist in the scene's lists.
+    with pytest.raises(axijoint.InputError, match=r"loads\[3\]"):
+        axijoint.run(SCENE, overrides={"loads[3].force[0]": 1.0})
+
+    # A missing scene file: the binary's message and status.
+    with pytest.raises(axijoint.InputError, match="nope.json: cannot read"):
+        axijoint.run("geo/nope.json")
+
+
+def test_sweep_reports_a_failing_cell():
+    law = "joints.pile_side.law"
+    grid = {f"{law}.cohesion": [0.5, 0.05], f"{law}.tensile_strength": [0.0, 0.1]}
+    table = axijoint.sweep(
+        SCENE, grid, overrides={"mesh.parameters.size": COARSE}, n_workers=2, progress=False
+    )
+    assert len(table) == 4
+    assert list(table.columns[:5]) == [f"{law}.cohesion", f"{law}.tensile_strength", "converged", "error", "exit_status"]
+    # C = 0.05 with a tensile strength 0.1 lies beyond the apex C / tan(phi).
+    failed = table[table["error"].notna()]
+    assert len(failed) == 1
+    bad = failed.iloc[0]
+    assert (bad[f"{law}.cohesion"], bad[f"{law}.tensile_strength"]) == (0.05, 0.1)
+    assert f"{law}.tensile_strength" in bad["error"] and bad["exit_status"] == 1
+    ok = table[table["error"].isna()]
+    assert ok["converged"].all()
+    for column in ["max_displacement", "pile_end_ux", "pile_side_open_area", "pile_side_slip_area", "pile_side_stick_area", "seconds"]:
+        assert ok[column].notna().all(), column
+    # The cell (C = 0.5, T = 0) is the run of the scene as it is.
+    r = axijoint.run(SCENE, overrides={"mesh.parameters.size": COARSE}, report=True, without_joints=False)
+    first = ok.iloc[0]
+    assert math.isclose(first["max_displacement"], r.summary["max_displacement"], rel_tol=1e-9)
+    assert math.isclose(first["pile_end_ux"], r.summary["loaded_faces"]["pile_end"][0], rel_tol=1e-9)
