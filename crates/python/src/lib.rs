@@ -250,13 +250,24 @@ fn io_status(e: &std::io::Error) -> u8 {
     }
 }
 
+/// Uses the mesh cache of the binary (its default folder) or none, for
+/// this process's later runs.
+#[pyfunction]
+fn set_mesh_cache(enabled: bool) {
+    use axijoint_mesh::gmsh::cache;
+    cache::set_dir(if enabled { cache::default_dir() } else { None });
+}
+
 /// The module `axijoint._native`. Like the binary, it runs each
-/// factorization sequentially and the harmonics in parallel.
+/// factorization sequentially and the harmonics in parallel, and uses
+/// the mesh cache.
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     axijoint_solver::linear::prefer_harmonic_parallelism();
+    set_mesh_cache(true);
     let py = m.py();
     m.add_function(wrap_pyfunction!(run, m)?)?;
+    m.add_function(wrap_pyfunction!(set_mesh_cache, m)?)?;
     m.add("Error", py.get_type::<Error>())?;
     m.add("InputError", py.get_type::<InputError>())?;
     m.add("BeyondCapacity", py.get_type::<BeyondCapacity>())?;

@@ -129,3 +129,23 @@ def test_sweep_reports_a_failing_cell():
     first = ok.iloc[0]
     assert math.isclose(first["max_displacement"], r.summary["max_displacement"], rel_tol=1e-9)
     assert math.isclose(first["pile_end_ux"], r.summary["loaded_faces"]["pile_end"][0], rel_tol=1e-9)
+
+
+def test_the_gil_is_released_while_solving():
+    import threading
+    import time
+
+    done = []
+    t = threading.Thread(target=lambda: done.append(axijoint.run(SCENE)))
+    start = time.perf_counter()
+    t.start()
+    gaps, last = [], time.perf_counter()
+    while t.is_alive():
+        now = time.perf_counter()
+        gaps.append(now - last)
+        last = now
+    elapsed = time.perf_counter() - start
+    t.join()
+    assert done and done[0].solution["mesh"]["nodes"] > 0
+    # Held, the GIL would stop this loop for the whole solve.
+    assert max(gaps) < 0.5 * elapsed, (max(gaps), elapsed)

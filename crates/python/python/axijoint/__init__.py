@@ -28,6 +28,7 @@ from typing import Any, Mapping
 
 from . import _native
 from ._native import (
+    set_mesh_cache,
     BeyondCapacity,
     Error,
     GmshFailure,
@@ -47,6 +48,7 @@ __all__ = [
     "IOFailure",
     "NumericalFailure",
     "set_key",
+    "set_mesh_cache",
     "grid_cells",
 ]
 

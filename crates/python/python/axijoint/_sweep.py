@@ -93,7 +93,8 @@ def sweep(
     None for a LocalCluster of `n_workers` processes (default: the number
     of cores), one thread each, closed at the end. `overrides` apply to
     every cell. `threads_per_cell`: rayon threads of each run, set in each
-    worker before its first run (None: rayon's default, every core).
+    worker before its first run; None: 1 on the LocalCluster made here
+    (one core per worker), rayon's default (every core) on a given client.
 
     Columns: the grid's keys; `converged`, `error` (the message of a failed
     cell, else None), `exit_status` (as the binary's; 3 for a limit load
@@ -121,6 +122,8 @@ def sweep(
             n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None
         )
         client = own_client = Client(own_cluster)
+        if threads_per_cell is None:
+            threads_per_cell = 1
     elif isinstance(client, str):
         client = own_client = Client(client)
     try:
