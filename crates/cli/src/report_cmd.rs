@@ -83,6 +83,11 @@ pub fn write_outputs(dir: &Path, compare: &[PathBuf]) -> Result<Vec<String>> {
         files.push(i.displacement.file.clone());
     }
     files.extend(written.files.iter().map(|p| p.display().to_string()));
+    for f in ["adapt.csv", "adapt_size.pos"] {
+        if h.extra.get("adapt").is_some() && dir.join(f).is_file() {
+            files.push(f.into());
+        }
+    }
     files.push("summary.json".into());
     let summary = json!({
         "scene": h.scene_file,
@@ -108,6 +113,7 @@ pub fn write_outputs(dir: &Path, compare: &[PathBuf]) -> Result<Vec<String>> {
         "initial": h.initial,
         "estimated_error": estimated_error(&written.estimated_error),
         "estimated_energy_error": written.energy_error,
+        "adapt": h.extra.get("adapt"),
         "files": files,
     });
     let path = dir.join("summary.json");
@@ -160,7 +166,7 @@ fn print_estimates(dir: &Path) {
         },
         100.0 * energy
     );
-    for (cut, t, e) in rows.iter().filter(|r| !(r.2 <= ESTIMATE_WARNING)) {
+    for (cut, t, e) in rows.iter().filter(|r| r.2 > ESTIMATE_WARNING || r.2.is_nan()) {
         println!(
             "  WARNING: cut {cut} at theta {t} deg: estimated error {:.1} % of its max |stress| (above {} %): refine the mesh there or set mesh.adapt (docs/accuracy.md)",
             100.0 * e,

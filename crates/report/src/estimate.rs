@@ -219,7 +219,7 @@ impl Estimate {
     }
 
     /// Per cell `eta_e^2 / V_e`: the error's `(sigma* - sigma_h)^T D^-1
-    /// (sigma* - sigma_h)` averaged over the cell's ring [S].
+    /// (sigma* - sigma_h)` averaged over the cell's ring (stress units).
     pub fn cell_density(&self) -> Vec<f64> {
         self.cell_error2
             .iter()
@@ -479,6 +479,25 @@ pub fn cut_error(
     theta_deg: f64,
     component: usize,
 ) -> f64 {
+    let (err, max) = cut_error_and_scale(field, estimate, locator, points, spacing, theta_deg, component);
+    if max > 0.0 {
+        err / max
+    } else {
+        0.0
+    }
+}
+
+/// [`cut_error`]'s parts: the largest `|sigma*_c - sigma_h,c|` and the
+/// largest `|sigma_c|` along the cut.
+pub fn cut_error_and_scale(
+    field: &Field,
+    estimate: &Estimate,
+    locator: &Locator,
+    points: &[[f64; 2]],
+    spacing: f64,
+    theta_deg: f64,
+    component: usize,
+) -> (f64, f64) {
     let mesh = field.mesh;
     let theta = theta_deg.to_radians();
     let (mut err, mut max): (f64, f64) = (0.0, 0.0);
@@ -495,11 +514,7 @@ pub fn cut_error(
             max = max.max(field.stress(l.cell, l.xi, theta)[component].abs());
         }
     }
-    if max > 0.0 {
-        err / max
-    } else {
-        0.0
-    }
+    (err, max)
 }
 
 /// The estimated errors of every cut of a scene: `(cut name, theta in
@@ -510,12 +525,26 @@ pub fn cut_errors(
     locator: &Locator,
     cuts: &[axijoint_solver::scene::Cut],
 ) -> Vec<(String, f64, f64)> {
+    profile_estimates(field, estimate, locator, cuts)
+        .into_iter()
+        .map(|(c, t, e, _)| (c, t, e))
+        .collect()
+}
+
+/// [`cut_errors`] with each profile's max |stress| last.
+pub fn profile_estimates(
+    field: &Field,
+    estimate: &Estimate,
+    locator: &Locator,
+    cuts: &[axijoint_solver::scene::Cut],
+) -> Vec<(String, f64, f64, f64)> {
     let mut out = Vec::new();
     for cut in cuts {
         let c = cut.component_index().unwrap_or(1);
         for &t in &cut.theta_deg {
-            let e = cut_error(field, estimate, locator, &[cut.from, cut.to], cut.spacing, t, c);
-            out.push((cut.name.clone(), t, e));
+            let (e, max) =
+                cut_error_and_scale(field, estimate, locator, &[cut.from, cut.to], cut.spacing, t, c);
+            out.push((cut.name.clone(), t, if max > 0.0 { e / max } else { 0.0 }, max));
         }
     }
     out

@@ -20,6 +20,7 @@
 //! | [`vtu`], [`gmsh_view`] | the field revolved for ParaView; a gmsh view |
 //! | [`write_report`] | every output of a solution folder |
 
+pub mod adapt;
 pub mod csv_out;
 pub mod cut_plot;
 pub mod cuts;

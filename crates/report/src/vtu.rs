@@ -856,6 +856,9 @@ fn solid_grid(path: &Path, field: &Field, n: usize, fields: &[&str]) -> Result<G
     let mut g = Grid::default();
     let (mut disp, mut disp_cyl, mut stress, mut cyl, mut vm) = (vec![], vec![], vec![], vec![], vec![]);
     let (mut body_of, mut cell_of) = (vec![], vec![]);
+    // The error estimate per cell (docs/accuracy.md).
+    let density = crate::estimate::Estimate::new(field).cell_density();
+    let mut error_of = vec![];
     for body in 0..mesh.bodies.len() {
         let (mut used, mut needs_mid) = (vec![false; mesh.nodes.len()], vec![false; mesh.nodes.len()]);
         for cell in mesh.cells.iter().filter(|c| c.body == body) {
@@ -904,6 +907,7 @@ fn solid_grid(path: &Path, field: &Field, n: usize, fields: &[&str]) -> Result<G
                 g.push_cell(t, &revolve(cell.kind, &cell.nodes, k, &rings));
                 body_of.push(body as i32);
                 cell_of.push(c as i64);
+                error_of.push(density[c]);
             }
         }
     }
@@ -930,6 +934,7 @@ fn solid_grid(path: &Path, field: &Field, n: usize, fields: &[&str]) -> Result<G
             component_names: &[],
             values: Values::I64(cell_of),
         },
+        Array::f64("error_energy", 1, error_of),
     ];
     Ok(g)
 }

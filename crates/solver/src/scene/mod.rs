@@ -37,8 +37,8 @@ pub use error::SceneError;
 pub use joint::{JointConfig, JointLaw, MohrCoulomb, RuleKind, ShearCheck};
 pub use load::{Family, Linear, Load, PointLoad, ResultantLoad, RingLoad, TractionLoad};
 pub use settings::{
-    Cut, Fix, InitialStress, Loading, Material, MeshSource, Outputs, Sections, SolverMethod, SolverSettings,
-    Support, Units, VtuSections,
+    Adapt, Cut, Fix, InitialStress, Loading, Material, MeshSource, Outputs, Sections, SolverMethod,
+    SolverSettings, Support, Units, VtuSections,
 };
 
 use axijoint_mesh::JointSpec;

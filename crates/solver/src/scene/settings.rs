@@ -82,6 +82,28 @@ pub struct MeshSource {
     /// gmsh `-setnumber NAME VALUE` pairs (only for a `.geo`).
     #[serde(default)]
     pub parameters: BTreeMap<String, f64>,
+    /// Re-mesh the `.geo` from the error estimate (docs/accuracy.md).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub adapt: Option<Adapt>,
+}
+
+/// `mesh.adapt`: re-mesh from the error estimate until every cut
+/// profile's estimated error is below `target` (docs/accuracy.md).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Adapt {
+    /// The estimated error every profile must reach, a fraction of its
+    /// max |stress| (0.01 = 1 %).
+    pub target: f64,
+    /// The most re-meshings (default 6).
+    #[serde(default = "Adapt::default_cycles")]
+    pub max_cycles: u32,
+}
+
+impl Adapt {
+    fn default_cycles() -> u32 {
+        6
+    }
 }
 
 /// An isotropic elastic material (stress units).

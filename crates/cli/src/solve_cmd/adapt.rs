@@ -1,0 +1,183 @@
+//! `mesh.adapt`: solve, estimate the error, re-mesh the `.geo` with a
+//! background size view, until every cut profile's estimated error is
+//! below the target or the cycles run out (docs/accuracy.md).
+
+use super::solve_to;
+use anyhow::{ensure, Context, Result};
+use axijoint_report::adapt::{mesh_with_background, new_sizes, write_background};
+use axijoint_report::estimate::{profile_estimates, Estimate};
+use axijoint_report::field::{Field, Initial, Locator};
+use axijoint_report::fmt_angle;
+use axijoint_solver::results::{read_solution, SolutionHeader};
+use axijoint_solver::scene::Scene;
+use serde_json::json;
+use std::path::Path;
+use std::time::Instant;
+
+/// The table of cycles, one CSV row per cycle.
+pub const CYCLES_CSV: &str = "adapt.csv";
+
+/// The last size view, for gmsh.
+pub const SIZE_VIEW: &str = "adapt_size.pos";
+
+/// One cycle: its mesh, the estimates on it, its time.
+struct Cycle {
+    nodes: usize,
+    dofs: usize,
+    energy: f64,
+    /// `(cut, theta in degrees, estimated error)`.
+    profiles: Vec<(String, f64, f64)>,
+    seconds: f64,
+}
+
+/// Solves `scene` (with `mesh.adapt`) into `out`, re-meshing until the
+/// target is met; the solution left in `out` is the last cycle's, with the
+/// table of cycles in `extra.adapt` and in [`CYCLES_CSV`].
+pub fn solve_adaptive(scene: &Scene, out: &Path, quiet: bool) -> Result<SolutionHeader> {
+    let adapt = scene.mesh.adapt.context("no mesh.adapt")?;
+    ensure!(
+        adapt.target > 0.0 && adapt.target < 1.0,
+        "mesh.adapt.target {}: must lie in (0, 1) (a fraction: 0.01 = 1 %)",
+        adapt.target
+    );
+    let geo = scene.mesh_path();
+    ensure!(
+        geo.extension().is_some_and(|e| e.eq_ignore_ascii_case("geo")),
+        "mesh.adapt re-meshes a .geo with gmsh; {} is not one",
+        geo.display()
+    );
+    ensure!(
+        !scene.cuts.is_empty(),
+        "mesh.adapt: its target is on the cuts' profiles; the scene has no cuts"
+    );
+    let params = scene.gmsh_parameters();
+    let tmp = tempfile::tempdir().context("creating a temporary folder")?;
+    let mut current = scene.clone();
+    let mut cycles: Vec<Cycle> = Vec::new();
+    let mut last_view = None;
+    let mut start = Instant::now();
+    let mut header = loop {
+        let header = solve_to(&current, out, quiet)?;
+        let saved = read_solution(out)?;
+        let materials: Vec<_> = saved
+            .mesh
+            .bodies
+            .iter()
+            .map(|b| scene.materials[&b.name].elastic())
+            .collect();
+        let field = Field {
+            mesh: &saved.mesh,
+            materials: &materials,
+            u: &saved.displacements,
+            initial: Initial::of(&saved),
+        };
+        let estimate = Estimate::new(&field);
+        let locator = Locator::new(&saved.mesh);
+        let rows = profile_estimates(&field, &estimate, &locator, &scene.cuts);
+        let worst = rows.iter().map(|r| r.2).fold(0.0, f64::max);
+        cycles.push(Cycle {
+            nodes: saved.mesh.nodes.len(),
+            dofs: header.dofs_per_harmonic,
+            energy: estimate.relative(),
+            profiles: rows.iter().map(|r| (r.0.clone(), r.1, r.2)).collect(),
+            seconds: start.elapsed().as_secs_f64(),
+        });
+        let k = cycles.len() - 1;
+        print_cycle(k, &cycles[k]);
+        if worst <= adapt.target || k >= adapt.max_cycles as usize {
+            break header;
+        }
+        start = Instant::now();
+        let scale = rows
+            .iter()
+            .map(|r| r.3)
+            .filter(|&m| m > 0.0)
+            .fold(f64::INFINITY, f64::min);
+        let sizes = new_sizes(&field, &estimate, scale, adapt.target);
+        let view = tmp.path().join(format!("size_{k}.pos"));
+        write_background(&view, &saved.mesh, &sizes)
+            .with_context(|| format!("writing {}", view.display()))?;
+        let msh = tmp.path().join(format!("adapt_{}.msh", k + 1));
+        mesh_with_background(&geo, &params, &view, &msh)?;
+        last_view = Some(view);
+        current.mesh.file = msh.to_string_lossy().into_owned();
+        current.mesh.parameters.clear();
+        current.mesh.adapt = None;
+    };
+    let reached = cycles
+        .last()
+        .is_some_and(|c| c.profiles.iter().all(|p| p.2 <= adapt.target));
+    if !reached {
+        println!(
+            "  WARNING: mesh.adapt did not reach {} % on every profile in {} cycles (docs/accuracy.md)",
+            100.0 * adapt.target,
+            adapt.max_cycles
+        );
+    }
+    // The table: CSV, solution.json extra.adapt, and the header returned.
+    let table = json!({
+        "target": adapt.target,
+        "max_cycles": adapt.max_cycles,
+        "reached": reached,
+        "cycles": cycles.iter().enumerate().map(|(k, c)| {
+            let mut per_cut = serde_json::Map::new();
+            for (cut, t, e) in &c.profiles {
+                per_cut.entry(cut.clone()).or_insert_with(|| json!({}))[fmt_angle(*t)] = json!(e);
+            }
+            json!({
+                "cycle": k,
+                "nodes": c.nodes,
+                "dofs_per_harmonic": c.dofs,
+                "estimated_error": per_cut,
+                "estimated_energy_error": c.energy,
+                "seconds": c.seconds,
+            })
+        }).collect::<Vec<_>>(),
+    });
+    write_csv(&out.join(CYCLES_CSV), &cycles)?;
+    if let Some(view) = last_view {
+        std::fs::copy(&view, out.join(SIZE_VIEW)).with_context(|| format!("writing {}", out.display()))?;
+    }
+    let path = out.join("solution.json");
+    let mut saved: serde_json::Value = serde_json::from_slice(&std::fs::read(&path)?)?;
+    saved["extra"]["adapt"] = table.clone();
+    std::fs::write(&path, serde_json::to_string_pretty(&saved)?)?;
+    header.extra["adapt"] = table;
+    Ok(header)
+}
+
+/// One line per cycle on the console.
+fn print_cycle(k: usize, c: &Cycle) {
+    let parts: Vec<String> = c
+        .profiles
+        .iter()
+        .map(|(cut, t, e)| format!("{cut} {t}: {:.2} %", 100.0 * e))
+        .collect();
+    println!(
+        "  adapt cycle {k}: {} unknowns per harmonic ({} nodes); estimated {}; energy norm {:.2} %; {:.2} s",
+        c.dofs,
+        c.nodes,
+        parts.join(", "),
+        100.0 * c.energy,
+        c.seconds
+    );
+}
+
+/// `cycle, nodes, dofs_per_harmonic, <cut>_theta<deg>..., energy, seconds`.
+fn write_csv(path: &Path, cycles: &[Cycle]) -> Result<()> {
+    let mut text = String::from("cycle,nodes,dofs_per_harmonic");
+    if let Some(c) = cycles.first() {
+        for (cut, t, _) in &c.profiles {
+            text += &format!(",{cut}_theta{}", fmt_angle(*t));
+        }
+    }
+    text += ",energy_norm,seconds\n";
+    for (k, c) in cycles.iter().enumerate() {
+        text += &format!("{k},{},{}", c.nodes, c.dofs);
+        for (_, _, e) in &c.profiles {
+            text += &format!(",{e:.9e}");
+        }
+        text += &format!(",{:.9e},{:.3}\n", c.energy, c.seconds);
+    }
+    std::fs::write(path, text).with_context(|| format!("writing {}", path.display()))
+}
