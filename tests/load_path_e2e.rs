@@ -38,7 +38,7 @@ fn block_scene(dir: &Path, name: &str, factor: f64, solver: Value, vtu: bool) ->
     let loads = scene["loads"].as_array_mut().unwrap();
     assert_eq!(loads.len(), 1, "block_torsion.json has one load");
     loads[0]["torque"] = json!(factor * t_max());
-    scene["outputs"] = json!({"csv": true, "plots": true, "vtu": vtu, "gmsh_views": false});
+    scene["outputs"] = json!({"csv": true, "plots": true, "png": true, "vtu": vtu, "gmsh_views": false});
     let path = dir.join(format!("{name}.json"));
     std::fs::write(&path, serde_json::to_string_pretty(&scene).unwrap()).unwrap();
     path

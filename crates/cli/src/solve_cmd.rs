@@ -464,7 +464,45 @@ pub fn run_run(args: &RunArgs) -> Result<()> {
     if !loaded.load_cases.is_empty() {
         return crate::cases_cmd::run(&scene, &loaded, &args.common, true);
     }
-    let (scene, out, header) = match solve_and_write(&scene, &args.common) {
+    // The paper's comparison (its dashed lines): the same scene bonded,
+    // solved on a thread of its own meanwhile (the scene's own solve leaves
+    // a core idle), into a folder beside the output and moved in after.
+    let bonded = (!loaded.joints.is_empty() && loaded.outputs.compare_without_joints).then(|| {
+        let mut bonded = loaded.clone();
+        bonded.joints.clear();
+        bonded.title = format!("{} (without joints)", loaded.title);
+        bonded
+    });
+    let side = match &bonded {
+        Some(_) => {
+            let out = args
+                .common
+                .output
+                .clone()
+                .unwrap_or_else(|| default_output(&scene));
+            let parent = match out.parent() {
+                Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+                _ => PathBuf::from("."),
+            };
+            std::fs::create_dir_all(&parent)?;
+            Some(
+                tempfile::Builder::new()
+                    .prefix(".without_joints")
+                    .tempdir_in(&parent)?,
+            )
+        }
+        None => None,
+    };
+    let (solved, comparison) = std::thread::scope(|s| {
+        let comparison = bonded
+            .as_ref()
+            .zip(side.as_ref())
+            .map(|(b, side)| s.spawn(move || solve_to(b, &side.path().join(WITHOUT_JOINTS), true)));
+        let solved = solve_and_write(&scene, &args.common);
+        let comparison = comparison.map(|h| h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)));
+        (solved, comparison)
+    });
+    let (_, out, header) = match solved {
         Ok(v) => v,
         Err(e) => {
             // A stopped one-shot run wrote its last iterate: report it too.
@@ -479,13 +517,10 @@ pub fn run_run(args: &RunArgs) -> Result<()> {
             return Err(e);
         }
     };
-    if !scene.joints.is_empty() {
-        // The paper's comparison (its dashed lines): the same scene bonded.
-        let mut bonded = scene.clone();
-        bonded.joints.clear();
-        bonded.title = format!("{} (without joints)", scene.title);
+    if let (Some(comparison), Some(side)) = (comparison, &side) {
+        comparison?;
         let dir = out.join(WITHOUT_JOINTS);
-        solve_to(&bonded, &dir, true)?;
+        std::fs::rename(side.path().join(WITHOUT_JOINTS), &dir)?;
         println!("  comparison without joints: {}", dir.display());
     }
     crate::report_cmd::report(&out, &[])?;

@@ -79,9 +79,9 @@ pub fn markers(cut: &Cut, mesh: &Mesh) -> Vec<Marker> {
         .collect()
 }
 
-/// Writes `DIR/cut_<name>.svg` and `.png` from `series` of `(s, value)`
-/// (their `color` naming a (theta, body) pair, `dash` the variant), and
-/// returns the two file names. A cut along z is drawn as (value, z); the
+/// Writes `DIR/cut_<name>.svg`, and `.png` when `png`, from `series` of
+/// `(s, value)` (their `color` naming a (theta, body) pair, `dash` the
+/// variant), and returns the file names. A cut along z is drawn as (value, z); the
 /// colour slots are renumbered in order of appearance, so the first 7
 /// pairs take the 7 colours of the palette.
 pub fn write(
@@ -91,7 +91,8 @@ pub fn write(
     mut series: Vec<Series>,
     length: &str,
     stress: &str,
-) -> Result<[String; 2], ReportError> {
+    png: bool,
+) -> Result<Vec<String>, ReportError> {
     let vertical = is_vertical(cut);
     let mut slots: Vec<usize> = Vec::new();
     for s in &mut series {
@@ -124,7 +125,11 @@ pub fn write(
         position: if vertical { Axis::Y } else { Axis::X },
     };
     let name = format!("cut_{}", cut.name);
-    let files = [format!("{name}.svg"), format!("{name}.png")];
-    plots::plot_profile_with(&dir.join(&files[0]), &dir.join(&files[1]), &plot)?;
+    let mut files = vec![format!("{name}.svg")];
+    let png_path = png.then(|| dir.join(format!("{name}.png")));
+    plots::plot_profile_with(&dir.join(&files[0]), png_path.as_deref(), &plot)?;
+    if png {
+        files.push(format!("{name}.png"));
+    }
     Ok(files)
 }

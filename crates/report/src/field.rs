@@ -253,6 +253,80 @@ impl Field<'_> {
         out
     }
 
+    /// [`Field::stress`] at `xi` of `cell` as a trigonometric polynomial
+    /// in theta: the coefficients of `1, cos t, sin t, ..., cos Mt, sin Mt`
+    /// (at least `2 m_max + 1`; more when a harmonic above `m_max` is
+    /// there), read off each harmonic's amplitude without sampling theta.
+    pub fn stress_coefficients(&self, cell: usize, xi: [f64; 2], m_max: usize) -> Vec<[f64; 6]> {
+        let mut out = vec![[0.0; 6]; 2 * m_max + 1];
+        self.add_coefficients(self.u, cell, xi, &mut out);
+        if let Some(init) = &self.initial {
+            let c = &self.mesh.cells[cell];
+            if let Some((s0, gamma)) = init.stress[c.body] {
+                let mut n = [0.0; axijoint_mesh::shapes::MAX_CELL_NODES];
+                let nn = c.kind.n_nodes();
+                c.kind.eval_n(xi, &mut n[..nn]);
+                let z: f64 = c
+                    .nodes
+                    .iter()
+                    .zip(&n[..nn])
+                    .map(|(&k, ni)| ni * self.mesh.nodes[k][1])
+                    .sum();
+                for (o, v) in out[0].iter_mut().zip(s0.at(z, gamma)) {
+                    *o += v;
+                }
+            }
+            if let Some(u0) = init.u {
+                self.add_coefficients(u0, cell, xi, &mut out);
+            }
+        }
+        out
+    }
+
+    /// Adds the coefficients of the stress of `u` alone (as in
+    /// [`Field::stress_of`]: in-plane components go with cos, the shears
+    /// with theta with sin, for the symmetric family; the other way round,
+    /// the shears negated, for the antisymmetric one).
+    fn add_coefficients(&self, u: &Displacements, cell: usize, xi: [f64; 2], out: &mut Vec<[f64; 6]>) {
+        let c = &self.mesh.cells[cell];
+        let coords: Vec<[f64; 2]> = c.nodes.iter().map(|&n| self.mesh.nodes[n]).collect();
+        let mat = &self.materials[c.body];
+        let mut ue = vec![0.0; 3 * c.nodes.len()];
+        for h in &u.harmonics {
+            let m = h.m as usize;
+            for (amp, anti) in [(&h.symmetric, false), (&h.antisymmetric, true)] {
+                if m == 0 && anti {
+                    continue;
+                }
+                for (i, &n) in c.nodes.iter().enumerate() {
+                    ue[3 * i..3 * i + 3].copy_from_slice(&amp[3 * n..3 * n + 3]);
+                }
+                if ue.iter().all(|&v| v == 0.0) {
+                    continue;
+                }
+                let s = stress_at(c.kind, &coords, mat, h.m, &ue, xi);
+                if out.len() < 2 * m + 1 {
+                    out.resize(2 * m + 1, [0.0; 6]);
+                }
+                if m == 0 {
+                    for (o, v) in out[0].iter_mut().zip(s) {
+                        *o += v;
+                    }
+                    continue;
+                }
+                let (cos, sin) = (2 * m - 1, 2 * m);
+                let (in_plane, shear) = if anti { (sin, cos) } else { (cos, sin) };
+                let sign = if anti { -1.0 } else { 1.0 };
+                for k in 0..4 {
+                    out[in_plane][k] += s[k];
+                }
+                for k in 4..6 {
+                    out[shear][k] += sign * s[k];
+                }
+            }
+        }
+    }
+
     /// Stress at the nodes of each cell, `(cell, local node) -> stress`:
     /// the element's own values at its nodes.
     pub fn cell_node_stress(&self, cell: usize, theta: f64) -> Vec<[f64; 6]> {

@@ -1,10 +1,10 @@
 //! Plots as SVG and PNG: stress profiles along cuts (the paper's Figs. 6-7),
 //! the convergence of the residual ratio (Fig. 8), and maps of joint states.
 //!
-//! Every function draws the same figure twice, as an SVG document and as a
-//! PNG image, with [plotters] and the DejaVu Sans font embedded in this
-//! crate (no system font is read). Both are rendered in memory first, then
-//! each is written under a temporary name (`NAME.partial` beside it)
+//! Every function draws the figure as an SVG document and, when given a
+//! PNG path (`Some`), again as a PNG image, with [plotters] and the DejaVu
+//! Sans font embedded in this crate (no system font is read). Both are
+//! rendered in memory first, then each is written under a temporary name (`NAME.partial` beside it)
 //! renamed into place, so a failure leaves no half-written file and a
 //! refused input (a NaN, an infinity) leaves no file at all.
 //!
@@ -200,7 +200,7 @@ pub struct ProfilePlot<'a> {
 /// Same as [`plot_profile_with`] without markers and with x the position.
 pub fn plot_profile(
     svg: &Path,
-    png: &Path,
+    png: Option<&Path>,
     title: &str,
     x_label: &str,
     y_label: &str,
@@ -220,7 +220,7 @@ pub fn plot_profile(
 /// Draws a [`ProfilePlot`]. Any non-finite coordinate (of a point or a
 /// marker) is refused with [`ReportError::NotFinite`] and nothing is
 /// written.
-pub fn plot_profile_with(svg: &Path, png: &Path, plot: &ProfilePlot) -> Result<(), ReportError> {
+pub fn plot_profile_with(svg: &Path, png: Option<&Path>, plot: &ProfilePlot) -> Result<(), ReportError> {
     for s in plot.series {
         for (i, &(x, y)) in s.points.iter().enumerate() {
             if !x.is_finite() || !y.is_finite() {
@@ -255,7 +255,7 @@ pub fn plot_profile_with(svg: &Path, png: &Path, plot: &ProfilePlot) -> Result<(
 /// refused with [`ReportError::NotFinite`] and nothing is written.
 pub fn plot_convergence(
     svg: &Path,
-    png: &Path,
+    png: Option<&Path>,
     title: &str,
     runs: &[(String, Vec<(u32, f64)>)],
 ) -> Result<(), ReportError> {
@@ -287,7 +287,7 @@ pub fn plot_convergence(
 /// nothing is written then.
 pub fn plot_joint_map(
     svg: &Path,
-    png: &Path,
+    png: Option<&Path>,
     title: &str,
     s: &[f64],
     theta_deg: &[f64],
@@ -586,7 +586,7 @@ fn draw_all<DB: DrawingBackend>(
     draw_legend(root, &lay.legend, svg)
 }
 
-fn write_figure(fig: &impl Figure, svg: &Path, png: &Path) -> Result<(), ReportError> {
+fn write_figure(fig: &impl Figure, svg: &Path, png: Option<&Path>) -> Result<(), ReportError> {
     ensure_font(svg)?;
     let lay = layout(fig.title(), fig.entries());
     let mut doc = String::new();
@@ -596,19 +596,30 @@ fn write_figure(fig: &impl Figure, svg: &Path, png: &Path) -> Result<(), ReportE
         root.present().map_err(|e| ReportError::write(svg, e))?;
     }
     let doc = svg_dashes(&doc);
-    let (w, h) = lay.size;
-    let mut rgb = vec![255u8; w as usize * h as usize * 3];
-    {
-        let bitmap = BitMapBackend::with_buffer(&mut rgb, lay.size);
-        let root = Smooth::new(bitmap)
-            .map_err(|e| ReportError::write(png, e))?
-            .into_drawing_area();
-        draw_all(fig, &lay, &root, false).map_err(|e| ReportError::write(png, e))?;
-        root.present().map_err(|e| ReportError::write(png, e))?;
-    }
-    let image = encode_png(&rgb, lay.size).map_err(|e| ReportError::write(png, e))?;
+    let image = match png {
+        Some(png) => {
+            let (w, h) = lay.size;
+            let mut rgb = vec![255u8; w as usize * h as usize * 3];
+            {
+                let bitmap = BitMapBackend::with_buffer(&mut rgb, lay.size);
+                let root = Smooth::new(bitmap)
+                    .map_err(|e| ReportError::write(png, e))?
+                    .into_drawing_area();
+                draw_all(fig, &lay, &root, false).map_err(|e| ReportError::write(png, e))?;
+                root.present().map_err(|e| ReportError::write(png, e))?;
+            }
+            Some((
+                png,
+                encode_png(&rgb, lay.size).map_err(|e| ReportError::write(png, e))?,
+            ))
+        }
+        None => None,
+    };
     write_atomic(svg, doc.as_bytes())?;
-    write_atomic(png, &image)
+    match image {
+        Some((png, bytes)) => write_atomic(png, &bytes),
+        None => Ok(()),
+    }
 }
 
 /// Turns the data polylines drawn with a dash opacity (see [`DASH_STEP`])

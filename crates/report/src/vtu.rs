@@ -173,6 +173,19 @@ pub fn write_vtu(
     fields: &[&str],
     joints: Option<&JointFieldFile>,
 ) -> Result<(), ReportError> {
+    write_vtu_with(path, field, n_sections, fields, joints, None)
+}
+
+/// [`write_vtu`] with the error estimate's density per cell given
+/// (`None`: computed here), for a caller that has the estimate already.
+pub fn write_vtu_with(
+    path: &Path,
+    field: &Field,
+    n_sections: usize,
+    fields: &[&str],
+    joints: Option<&JointFieldFile>,
+    density: Option<&[f64]>,
+) -> Result<(), ReportError> {
     if n_sections < 3 {
         return Err(ReportError::Input(format!(
             "{}: a revolved view needs at least 3 sections, not {n_sections}",
@@ -186,7 +199,7 @@ pub fn write_vtu(
             Outputs::VTU_FIELDS.join(", ")
         )));
     }
-    let solid = solid_grid(path, field, n_sections, fields)?;
+    let solid = solid_grid(path, field, n_sections, fields, density)?;
     let joint_grid = match joints {
         Some(jf) if !field.mesh.joints.is_empty() => {
             let jpath = joints_path(path);
@@ -227,10 +240,13 @@ pub(crate) fn write_temp(
         .ok_or_else(|| ReportError::write(path, "not a file name"))?
         .to_string_lossy();
     let tmp = path.with_file_name(format!(".{name}.{}.tmp", std::process::id()));
-    let result = (|| {
+    let result = (|| -> std::io::Result<()> {
         let mut w = BufWriter::new(File::create(&tmp)?);
         f(&mut w)?;
-        w.into_inner().map_err(|e| e.into_error())?.sync_all()
+        // Not synced to disk, like every report file: `axijoint report`
+        // rewrites them from the solution (an fsync took 3-6 ms a file).
+        w.into_inner().map_err(|e| e.into_error())?;
+        Ok(())
     })();
     match result {
         Ok(()) => Ok(tmp),
@@ -438,15 +454,20 @@ fn write_array<W: Write>(w: &mut Writer<W>, a: &Array, data: &mut Vec<u8>) -> st
 const BLOCK: usize = 1 << 15;
 
 /// Appends `bytes` to `out` as a `vtkZLibDataCompressor` array: the UInt64
-/// header `[nb][nu][np][nc_1 .. nc_nb]`, then the zlib blocks.
+/// header `[nb][nu][np][nc_1 .. nc_nb]`, then the zlib blocks, compressed
+/// in parallel at zlib's fastest level (Float64 data barely compresses
+/// more at the default level, docs/outputs.md).
 fn compress(bytes: &[u8], out: &mut Vec<u8>) -> std::io::Result<()> {
     use flate2::{write::ZlibEncoder, Compression};
-    let mut blocks = Vec::new();
-    for chunk in bytes.chunks(BLOCK) {
-        let mut e = ZlibEncoder::new(Vec::new(), Compression::default());
-        e.write_all(chunk)?;
-        blocks.push(e.finish()?);
-    }
+    use rayon::prelude::*;
+    let blocks = bytes
+        .par_chunks(BLOCK)
+        .map(|chunk| {
+            let mut e = ZlibEncoder::new(Vec::new(), Compression::fast());
+            e.write_all(chunk)?;
+            e.finish()
+        })
+        .collect::<std::io::Result<Vec<_>>>()?;
     let mut header: Vec<u64> = vec![blocks.len() as u64, BLOCK as u64, (bytes.len() % BLOCK) as u64];
     header.extend(blocks.iter().map(|b| b.len() as u64));
     out.extend(header.iter().flat_map(|v| v.to_le_bytes()));
@@ -771,7 +792,8 @@ fn von_mises(s: [f64; 6]) -> f64 {
 /// element-node values of every cell of the body, averaged per node, as the
 /// coefficients `c_0, a_1, b_1, ..., a_M, b_M` of
 /// `c_0 + sum a_m cos(m theta) + b_m sin(m theta)` (exact: the field has no
-/// harmonic above M). Recovered from `2M + 1` equispaced evaluations.
+/// harmonic above M), from each harmonic's amplitude
+/// ([`Field::stress_coefficients`]).
 struct NodalStress {
     /// Number of coefficients, `2M + 1`.
     nc: usize,
@@ -781,19 +803,16 @@ struct NodalStress {
 
 impl NodalStress {
     fn new(field: &Field, body: usize, rings: &Rings) -> NodalStress {
-        let m_max = field.u.harmonics.iter().map(|h| h.m as usize).max().unwrap_or(0);
-        let nc = 2 * m_max + 1;
-        let angles: Vec<f64> = (0..nc).map(|j| 2.0 * PI * j as f64 / nc as f64).collect();
-        // Discrete Fourier analysis weights: coefficient q = sum_j w[j][q] s_j.
-        let weights: Vec<Vec<f64>> = angles
+        let initial = field.initial.as_ref().and_then(|i| i.u);
+        let m_max = field
+            .u
+            .harmonics
             .iter()
-            .map(|&t| {
-                trig_basis(t, m_max)
-                    .enumerate()
-                    .map(|(q, b)| if q == 0 { 1.0 } else { 2.0 } / nc as f64 * b)
-                    .collect()
-            })
-            .collect();
+            .chain(initial.iter().flat_map(|u| u.harmonics.iter()))
+            .map(|h| h.m as usize)
+            .max()
+            .unwrap_or(0);
+        let nc = 2 * m_max + 1;
         let mut coef = vec![[0.0; 6]; rings.nodes.len() * nc];
         let mut count = vec![0usize; rings.nodes.len()];
         for (c, cell) in field
@@ -803,16 +822,15 @@ impl NodalStress {
             .enumerate()
             .filter(|(_, c)| c.body == body)
         {
-            let samples: Vec<Vec<[f64; 6]>> = angles.iter().map(|&t| field.cell_node_stress(c, t)).collect();
-            for (i, &node) in cell.nodes.iter().enumerate() {
+            for (&node, &xi) in cell.nodes.iter().zip(cell.kind.ref_coords()) {
                 let l = rings.local[node];
                 count[l] += 1;
-                for (sample, w) in samples.iter().zip(&weights) {
-                    let s = sample[i];
-                    for (q, &wq) in w.iter().enumerate() {
-                        for (acc, v) in coef[l * nc + q].iter_mut().zip(s) {
-                            *acc += wq * v;
-                        }
+                for (acc, q) in coef[l * nc..(l + 1) * nc]
+                    .iter_mut()
+                    .zip(field.stress_coefficients(c, xi, m_max))
+                {
+                    for (a, v) in acc.iter_mut().zip(q) {
+                        *a += v;
                     }
                 }
             }
@@ -849,7 +867,13 @@ fn trig_basis(t: f64, m_max: usize) -> impl Iterator<Item = f64> {
 }
 
 /// The revolved bodies, with the point arrays `fields`.
-fn solid_grid(path: &Path, field: &Field, n: usize, fields: &[&str]) -> Result<Grid, ReportError> {
+fn solid_grid(
+    path: &Path,
+    field: &Field,
+    n: usize,
+    fields: &[&str],
+    density: Option<&[f64]>,
+) -> Result<Grid, ReportError> {
     let mesh = field.mesh;
     let want = |name: &str| fields.contains(&name);
     let needs_stress = ["stress", "sigma_cyl", "von_mises"].iter().any(|f| want(f));
@@ -857,7 +881,10 @@ fn solid_grid(path: &Path, field: &Field, n: usize, fields: &[&str]) -> Result<G
     let (mut disp, mut disp_cyl, mut stress, mut cyl, mut vm) = (vec![], vec![], vec![], vec![], vec![]);
     let (mut body_of, mut cell_of) = (vec![], vec![]);
     // The error estimate per cell (docs/accuracy.md).
-    let density = crate::estimate::Estimate::new(field).cell_density();
+    let density = match density {
+        Some(d) => d.to_vec(),
+        None => crate::estimate::Estimate::new(field).cell_density(),
+    };
     let mut error_of = vec![];
     for body in 0..mesh.bodies.len() {
         let (mut used, mut needs_mid) = (vec![false; mesh.nodes.len()], vec![false; mesh.nodes.len()]);

@@ -264,7 +264,7 @@ fn profile_svg_and_png() {
     ];
     plot_profile(
         &svg,
-        &png,
+        Some(&png),
         "Cut a-a, theta = 180 deg",
         "r (m)",
         "sigma_z (MPa)",
@@ -313,7 +313,7 @@ fn single_point_and_empty_profiles_draw() {
     let dir = tempfile::tempdir().unwrap();
     let (svg, png) = paths(dir.path(), "p");
     let one = vec![series("one point", 1, false, 3, 1.0, |_| 2.0)];
-    plot_profile(&svg, &png, "One point", "x (m)", "y (MPa)", &one).unwrap();
+    plot_profile(&svg, Some(&png), "One point", "x (m)", "y (MPa)", &one).unwrap();
     let doc = read_svg(&svg);
     assert_eq!(doc.lines.iter().map(|l| l.2).collect::<Vec<_>>(), [1, 2]);
     assert!(
@@ -321,12 +321,12 @@ fn single_point_and_empty_profiles_draw() {
         "a dot for the point"
     );
 
-    plot_profile(&svg, &png, "Nothing", "x (m)", "y (MPa)", &[]).unwrap();
+    plot_profile(&svg, Some(&png), "Nothing", "x (m)", "y (MPa)", &[]).unwrap();
     let doc = read_svg(&svg);
     assert!(doc.texts.contains("Nothing") && doc.lines.is_empty());
     check_png(&png);
 
-    plot_joint_map(&svg, &png, "No joint data", &[], &[], &[]).unwrap();
+    plot_joint_map(&svg, Some(&png), "No joint data", &[], &[], &[]).unwrap();
     assert!(read_svg(&svg).texts.contains("No joint data"));
     check_png(&png);
     assert_eq!(
@@ -334,6 +334,18 @@ fn single_point_and_empty_profiles_draw() {
         ["p.png", "p.svg"],
         "replaced in place, nothing left over"
     );
+}
+
+#[test]
+fn without_a_png_path_only_the_svg_is_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let (svg, _) = paths(dir.path(), "q");
+    let one = vec![series("one point", 1, false, 3, 1.0, |_| 2.0)];
+    plot_profile(&svg, None, "One point", "x (m)", "y (MPa)", &one).unwrap();
+    plot_convergence(&svg, None, "c", &[("run".into(), vec![(1, 0.5), (2, 0.1)])]).unwrap();
+    plot_joint_map(&svg, None, "No joint data", &[], &[], &[]).unwrap();
+    assert!(read_svg(&svg).texts.contains("No joint data"));
+    assert_eq!(listing(dir.path()), ["q.svg"]);
 }
 
 #[test]
@@ -349,7 +361,7 @@ fn convergence_svg_and_png() {
         ("no slip".to_owned(), exact),
         ("not run".to_owned(), vec![]),
     ];
-    plot_convergence(&svg, &png, "Convergence of the residual ratio", &runs).unwrap();
+    plot_convergence(&svg, Some(&png), "Convergence of the residual ratio", &runs).unwrap();
     assert_eq!(listing(dir.path()), ["convergence.png", "convergence.svg"]);
 
     let doc = read_svg(&svg);
@@ -399,7 +411,7 @@ fn joint_map_svg_and_png() {
         [vec![Open; 5], vec![Slip; 5]].concat(),
         vec![Open; 10],
     ];
-    plot_joint_map(&svg, &png, "Joint pile side: states", &s, &theta, &states).unwrap();
+    plot_joint_map(&svg, Some(&png), "Joint pile side: states", &s, &theta, &states).unwrap();
     assert_eq!(listing(dir.path()), ["joint_side.png", "joint_side.svg"]);
 
     let doc = read_svg(&svg);
@@ -435,33 +447,33 @@ fn non_finite_and_bad_shapes_are_refused_and_nothing_is_written() {
     let (svg, png) = paths(dir.path(), "bad");
     let mut s = series("pile", 5, false, 0, 0.0, |x| x);
     s.points[3].1 = f64::NAN;
-    let e = plot_profile(&svg, &png, "t", "x", "y", &[s]).unwrap_err();
+    let e = plot_profile(&svg, Some(&png), "t", "x", "y", &[s]).unwrap_err();
     assert!(matches!(e, ReportError::NotFinite { .. }), "{e}");
     let mut s = series("pile", 5, false, 0, 0.0, |x| x);
     s.points[0].0 = f64::INFINITY;
     assert!(matches!(
-        plot_profile(&svg, &png, "t", "x", "y", &[s]),
+        plot_profile(&svg, Some(&png), "t", "x", "y", &[s]),
         Err(ReportError::NotFinite { .. })
     ));
 
     let runs = vec![("a".to_owned(), vec![(1, 1.0), (2, f64::NAN)])];
     assert!(matches!(
-        plot_convergence(&svg, &png, "t", &runs),
+        plot_convergence(&svg, Some(&png), "t", &runs),
         Err(ReportError::NotFinite { .. })
     ));
     let runs = vec![("a".to_owned(), vec![(1, 1.0), (2, f64::NEG_INFINITY)])];
     assert!(matches!(
-        plot_convergence(&svg, &png, "t", &runs),
+        plot_convergence(&svg, Some(&png), "t", &runs),
         Err(ReportError::NotFinite { .. })
     ));
 
     let st = vec![vec![JointState::Stick; 2]; 2];
     assert!(matches!(
-        plot_joint_map(&svg, &png, "t", &[0.0, f64::NAN], &[0.0, 90.0], &st),
+        plot_joint_map(&svg, Some(&png), "t", &[0.0, f64::NAN], &[0.0, 90.0], &st),
         Err(ReportError::NotFinite { .. })
     ));
     assert!(matches!(
-        plot_joint_map(&svg, &png, "t", &[0.0, 1.0], &[0.0, f64::INFINITY], &st),
+        plot_joint_map(&svg, Some(&png), "t", &[0.0, 1.0], &[0.0, f64::INFINITY], &st),
         Err(ReportError::NotFinite { .. })
     ));
     for (s, theta) in [
@@ -470,7 +482,7 @@ fn non_finite_and_bad_shapes_are_refused_and_nothing_is_written() {
         (&[1.0, 0.0], &[0.0, 90.0]),
     ] {
         assert!(matches!(
-            plot_joint_map(&svg, &png, "t", s, theta, &st),
+            plot_joint_map(&svg, Some(&png), "t", s, theta, &st),
             Err(ReportError::Input(_))
         ));
     }
@@ -644,7 +656,7 @@ fn worst_case_text_fits_and_every_series_has_its_own_style() {
         markers: &markers,
         position: Axis::X,
     };
-    plot_profile_with(&svg, &png, &plot).unwrap();
+    plot_profile_with(&svg, Some(&png), &plot).unwrap();
     let labels: Vec<&str> = all[..16].iter().map(|s| s.label.as_str()).collect();
     let others: Vec<&str> = markers.iter().map(|m| m.label.as_str()).chain([title]).collect();
     let doc = check_text_fits(&svg, &png, &labels, &others);
@@ -677,7 +689,7 @@ fn worst_case_text_fits_and_every_series_has_its_own_style() {
         position: Axis::Y,
         ..plot
     };
-    plot_profile_with(&svg, &png, &plot).unwrap();
+    plot_profile_with(&svg, Some(&png), &plot).unwrap();
     check_distinct_styles(&check_text_fits(&svg, &png, &labels, &others), 16);
 
     // Twelve runs of one scene, labelled by long paths.
@@ -690,14 +702,14 @@ fn worst_case_text_fits_and_every_series_has_its_own_style() {
         })
         .collect();
     let (svg, png) = paths(dir.path(), "runs");
-    plot_convergence(&svg, &png, title, &runs).unwrap();
+    plot_convergence(&svg, Some(&png), title, &runs).unwrap();
     let labels: Vec<&str> = runs.iter().map(|r| r.0.as_str()).collect();
     let doc = check_text_fits(&svg, &png, &labels, &[title]);
     check_distinct_styles(&doc, 12);
 
     let (svg, png) = paths(dir.path(), "map");
     let st = vec![vec![JointState::Stick, JointState::Open]; 2];
-    plot_joint_map(&svg, &png, title, &[0.0, 1.0], &[0.0, 180.0], &st).unwrap();
+    plot_joint_map(&svg, Some(&png), title, &[0.0, 1.0], &[0.0, 180.0], &st).unwrap();
     check_text_fits(&svg, &png, &STATE_LABELS, &[title]);
 }
 
@@ -730,7 +742,7 @@ fn render_samples_for_review() {
     let (svg, png) = paths(&dir, "profile");
     plot_profile(
         &svg,
-        &png,
+        Some(&png),
         "Cut a-a (z = 0.75 m), theta = 180 deg",
         "r (m)",
         "sigma_z (MPa)",
@@ -759,7 +771,7 @@ fn render_samples_for_review() {
         ("no slip (C = 2.0, phi = 30)".to_owned(), fig8(30, 12.0)),
     ];
     let (svg, png) = paths(&dir, "convergence");
-    plot_convergence(&svg, &png, "Residual ratio (Fig. 8)", &runs).unwrap();
+    plot_convergence(&svg, Some(&png), "Residual ratio (Fig. 8)", &runs).unwrap();
 
     use JointState::{Open, Slip, Stick};
     let s: Vec<f64> = (0..20).map(|i| 0.025 + 0.05 * f64::from(i)).collect();
@@ -781,5 +793,13 @@ fn render_samples_for_review() {
         })
         .collect();
     let (svg, png) = paths(&dir, "joint_map");
-    plot_joint_map(&svg, &png, "Joint 'pile_side' (s in m)", &s, &theta, &states).unwrap();
+    plot_joint_map(
+        &svg,
+        Some(&png),
+        "Joint 'pile_side' (s in m)",
+        &s,
+        &theta,
+        &states,
+    )
+    .unwrap();
 }

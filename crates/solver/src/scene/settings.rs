@@ -520,9 +520,17 @@ pub struct Outputs {
     /// CSV of every cut, joint and of the convergence.
     #[serde(default = "yes")]
     pub csv: bool,
-    /// SVG and PNG plots of the cuts, joint states and convergence.
+    /// SVG plots of the cuts, joint states and convergence.
     #[serde(default = "yes")]
     pub plots: bool,
+    /// A PNG beside every SVG plot (off by default: the PNGs take more
+    /// than half of the report's CPU time, docs/performance.md).
+    #[serde(default)]
+    pub png: bool,
+    /// `axijoint run` of a scene with joints also solves it bonded, for
+    /// the dashed curves of the cut plots.
+    #[serde(default = "yes")]
+    pub compare_without_joints: bool,
     /// ParaView `.vtu` of the field revolved in 3D.
     #[serde(default = "yes")]
     pub vtu: bool,
@@ -607,6 +615,8 @@ impl Default for Outputs {
         Outputs {
             csv: true,
             plots: true,
+            png: false,
+            compare_without_joints: true,
             vtu: true,
             vtu_sections: VtuSections::Auto,
             vtu_fields: Outputs::default_vtu_fields(),
