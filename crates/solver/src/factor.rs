@@ -30,10 +30,12 @@ use faer::{Conj, MatMut, Par};
 /// the permuted unknown `first`: `x[i - first][k]` holds unknown `i >= first`
 /// (permuted order). The unknowns before `first` stay zero in the forward
 /// solve and the backward solve of those from `first` on needs no others,
-/// so only the trailing block of L is read.
+/// so only the trailing block of L is read. `values` may start at stored
+/// value `offset` (a joint block, [`trailing_offset`]).
 fn supernodal_solve<const K: usize>(
     sym: &SymbolicSupernodalCholesky<usize>,
     values: &[f64],
+    offset: usize,
     x: &mut [[f64; K]],
     first: usize,
 ) {
@@ -47,12 +49,16 @@ fn supernodal_solve<const K: usize>(
     // other p rows are the unknowns `rows[row_ptr[s]..][..p]`.
     let block = |s: usize| {
         let (start, c) = (begin[s], end[s] - begin[s]);
-        let l = &values[val_ptr[s]..val_ptr[s + 1]];
+        let l = &values[val_ptr[s] - offset..val_ptr[s + 1] - offset];
         let pattern = &rows[row_ptr[s]..][..l.len() / c - c];
         (start, c, pattern, l)
     };
     // The first supernode that ends after `first`.
     let s0 = end.partition_point(|&e| e <= first);
+    assert!(
+        s0 == n_s || val_ptr[s0] >= offset,
+        "the factor's stored values start after the block to solve"
+    );
     // Forward: L y = b, column by column.
     for s in s0..n_s {
         let (start, c, pattern, l) = block(s);
@@ -130,12 +136,12 @@ pub(crate) fn solve_interleaved<const K: usize>(
                     for (xi, &f) in x.iter_mut().zip(fwd) {
                         *xi = b[f];
                     }
-                    supernodal_solve(sym, values, &mut x, 0);
+                    supernodal_solve(sym, values, 0, &mut x, 0);
                     for (bi, &v) in b.iter_mut().zip(inv) {
                         *bi = x[v];
                     }
                 }
-                None => supernodal_solve(sym, values, b, 0),
+                None => supernodal_solve(sym, values, 0, b, 0),
             }
         }
         SymbolicCholeskyRaw::Simplicial(_) => {
@@ -150,19 +156,36 @@ pub(crate) fn solve_interleaved<const K: usize>(
     }
 }
 
+/// The first stored value of L that a solve for the last `n - first`
+/// unknowns reads (the start of the supernode holding unknown `first`):
+/// keeping `values[offset..]` keeps all such a solve needs. `None` for a
+/// simplicial factor (solved in full).
+pub(crate) fn trailing_offset(symbolic: &SymbolicCholesky<usize>, first: usize) -> Option<usize> {
+    match symbolic.raw() {
+        SymbolicCholeskyRaw::Supernodal(sym) => {
+            let s0 = sym.supernode_end().partition_point(|&e| e <= first);
+            Some(sym.col_ptr_for_val()[s0])
+        }
+        SymbolicCholeskyRaw::Simplicial(_) => None,
+    }
+}
+
 /// Solves `A x = b` for a `b` that vanishes outside the last `b.len()`
 /// unknowns of the factor's permuted order, and returns those unknowns of
 /// `x` in `b` (both in permuted order): the joint block of the iteration.
+/// `values` are the factor's stored values from `offset` on (0: all).
 pub(crate) fn solve_trailing<const K: usize>(
     symbolic: &SymbolicCholesky<usize>,
     values: &[f64],
+    offset: usize,
     b: &mut [[f64; K]],
 ) {
     let n = symbolic.nrows();
     let first = n - b.len();
     match symbolic.raw() {
-        SymbolicCholeskyRaw::Supernodal(sym) => supernodal_solve(sym, values, b, first),
+        SymbolicCholeskyRaw::Supernodal(sym) => supernodal_solve(sym, values, offset, b, first),
         SymbolicCholeskyRaw::Simplicial(_) => {
+            assert_eq!(offset, 0, "a simplicial factor is kept whole");
             // Small problems: a full solve in natural order.
             let fwd: Vec<usize> = match symbolic.perm() {
                 Some(p) => p.arrays().0.to_vec(),

@@ -11,7 +11,7 @@ use crate::assembly::{
     StiffnessTerms,
 };
 use crate::dofs::DofMap;
-use crate::factor::{solve_interleaved, solve_trailing, solve_with_faer};
+use crate::factor::{solve_interleaved, solve_trailing, solve_with_faer, trailing_offset};
 use crate::material::Elastic;
 use axijoint_mesh::Mesh;
 use faer::dyn_stack::{MemBuffer, MemStack};
@@ -22,6 +22,7 @@ use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, SymbolicCholes
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Mat, Side};
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 
 /// [`Model::factorize_all`] assembles the [`StiffnessTerms`] when it
@@ -61,14 +62,31 @@ pub fn prefer_harmonic_parallelism() {
     faer::set_global_parallelism(faer::Par::Seq);
 }
 
-/// Numeric factor of one harmonic.
+/// Numeric factor of one harmonic: the whole of L, or only its joint
+/// block ([`Model::joint_block`]), all the iteration reads.
 pub struct HarmonicFactor {
     /// Harmonic m.
     pub m: u32,
     symbolic: Arc<SymbolicCholesky<usize>>,
-    /// Values of the lower factor L in faer's storage for `symbolic`.
+    /// Values of the lower factor L in faer's storage for `symbolic`, from
+    /// stored value `offset` on.
     values: Vec<f64>,
+    /// 0 for the whole factor.
+    offset: usize,
     pinned: Vec<bool>,
+}
+
+impl HarmonicFactor {
+    /// Whether the whole factor is kept (else only its joint block: a full
+    /// solve then factorizes the harmonic again).
+    pub fn is_full(&self) -> bool {
+        self.offset == 0
+    }
+
+    /// Bytes of the stored values of L.
+    pub fn stored_bytes(&self) -> usize {
+        8 * self.values.len()
+    }
 }
 
 /// A mesh with materials, joints and supports, ready to factorize.
@@ -93,6 +111,8 @@ pub struct Model {
     trail_pos: Vec<usize>,
     /// `A`, `B`, `C` of `K_m = c_m (A + m B + m^2 C)`, once assembled.
     terms: Mutex<Option<Arc<StiffnessTerms>>>,
+    /// Harmonics reduced to their joint blocks factorized at once.
+    lean_at_once: AtomicUsize,
 }
 
 impl Model {
@@ -164,12 +184,65 @@ impl Model {
             trailing,
             trail_pos,
             terms: Mutex::new(None),
+            lean_at_once: AtomicUsize::new(usize::MAX),
         })
     }
 
     /// Stored values of one harmonic's Cholesky factor L.
     pub fn factor_len(&self) -> usize {
         self.symbolic.len_val()
+    }
+
+    /// At most `n` (at least 1) harmonics whose factors keep only their
+    /// joint blocks are factorized at once by [`Model::factorize_all_with`]
+    /// and by the iteration's full solves: each holds a whole factor while
+    /// it works. Default: no limit (rayon's threads).
+    pub fn set_lean_at_once(&self, n: usize) {
+        self.lean_at_once.store(n.max(1), Ordering::Relaxed);
+    }
+
+    /// `f(i)` for `i` in `0..n`, in parallel, but at most
+    /// [`Model::set_lean_at_once`] of the `i` with `lean(i)` at once.
+    pub fn map_bounded<T: Send>(
+        &self,
+        n: usize,
+        lean: impl Fn(usize) -> bool + Sync,
+        f: impl Fn(usize) -> T + Sync + Send,
+    ) -> Vec<T> {
+        let (lean_i, whole_i): (Vec<usize>, Vec<usize>) = (0..n).partition(|&i| lean(i));
+        let mut out: Vec<Option<T>> = (0..n).map(|_| None).collect();
+        let mut put = |done: Vec<(usize, T)>| {
+            for (i, t) in done {
+                out[i] = Some(t);
+            }
+        };
+        put(whole_i.par_iter().map(|&i| (i, f(i))).collect());
+        let at_once = self.lean_at_once.load(Ordering::Relaxed).max(1);
+        for chunk in lean_i.chunks(at_once.min(lean_i.len().max(1))) {
+            put(chunk.par_iter().map(|&i| (i, f(i))).collect());
+        }
+        out.into_iter().map(|t| t.expect("every index mapped")).collect()
+    }
+
+    /// Stored values of a factor's joint block ([`Model::joint_block`]).
+    pub fn joint_block_len(&self) -> usize {
+        let first = self.pattern.n - self.trailing.len();
+        trailing_offset(&self.symbolic, first).map_or(self.factor_len(), |o| self.factor_len() - o)
+    }
+
+    /// `factor` reduced to its joint block: the trailing columns of L that
+    /// [`Model::solve_joint`] reads (a simplicial factor stays whole). Its
+    /// joint solves are those of the whole factor, value for value;
+    /// [`Model::solve`] with it factorizes the harmonic again.
+    pub fn joint_block(&self, mut factor: HarmonicFactor) -> HarmonicFactor {
+        let first = self.pattern.n - self.trailing.len();
+        if let Some(o) = trailing_offset(&factor.symbolic, first) {
+            if o > factor.offset {
+                factor.values = factor.values[o - factor.offset..].to_vec();
+                factor.offset = o;
+            }
+        }
+        factor
     }
 
     /// Nodes of the joint elements, sorted: the node order of
@@ -200,7 +273,7 @@ impl Model {
                 *bi = [0.0; 2];
             }
         }
-        solve_trailing(&factor.symbolic, &factor.values, &mut b);
+        solve_trailing(&factor.symbolic, &factor.values, factor.offset, &mut b);
         let mut out = [
             vec![0.0; 3 * self.joint_nodes.len()],
             vec![0.0; 3 * self.joint_nodes.len()],
@@ -310,11 +383,35 @@ impl Model {
         values: &[f64],
         pinned: Vec<bool>,
     ) -> Result<HarmonicFactor, SolveError> {
-        let singular = |detail: String| SolveError::Singular {
-            m,
-            detail,
-            hint: self.unsupported_hint(),
-        };
+        let factor = self.numeric(m, values, pinned)?;
+        // Probe: x0 pseudo-random, b = K x0, solve, compare.
+        let n = self.pattern.n;
+        let x0: Vec<f64> = (0..n)
+            .map(|i| ((i as f64 + 1.0) * 0.618_033_988_75).fract() - 0.5)
+            .collect();
+        let mut b = vec![0.0; n];
+        self.pattern.sym_matvec(values, &x0, &mut b);
+        let mut x: Vec<[f64; 1]> = b.iter().map(|&v| [v]).collect();
+        solve_interleaved(&factor.symbolic, &factor.values, &mut x);
+        let (mut num, mut den) = (0.0f64, 0.0f64);
+        for (xi, x0i) in x.iter().zip(&x0) {
+            num = num.max((xi[0] - x0i).abs());
+            den = den.max(x0i.abs());
+        }
+        let err = num / den;
+        if !err.is_finite() || err > 1e-6 {
+            return Err(SolveError::Singular {
+                m,
+                detail: format!("probe solve error {err:.1e}"),
+                hint: self.unsupported_hint(),
+            });
+        }
+        Ok(factor)
+    }
+
+    /// The numeric factorization of [`Model::factorize_values`], without
+    /// its probe.
+    fn numeric(&self, m: u32, values: &[f64], pinned: Vec<bool>) -> Result<HarmonicFactor, SolveError> {
         let mat = SparseColMatRef::new(pattern_ref(&self.pattern), values);
         let mut l_values = Vec::new();
         l_values
@@ -337,52 +434,79 @@ impl Model {
                 MemStack::new(&mut mem),
                 Default::default(),
             )
-            .map_err(|LltError::NonPositivePivot { index }| {
-                singular(format!(
-                    "a non-positive pivot in the Cholesky factorization (step {index})"
-                ))
+            .map_err(|LltError::NonPositivePivot { index }| SolveError::Singular {
+                m,
+                detail: format!("a non-positive pivot in the Cholesky factorization (step {index})"),
+                hint: self.unsupported_hint(),
             })?;
-        drop(mem);
-        let factor = HarmonicFactor {
+        Ok(HarmonicFactor {
             m,
             symbolic: self.symbolic.clone(),
             values: l_values,
+            offset: 0,
             pinned,
+        })
+    }
+
+    /// The whole factor of a harmonic whose `factor` keeps only its joint
+    /// block: assembled as [`Model::factorize`] does and factorized again
+    /// (without the probe: the harmonic factorized before).
+    fn refactorize(&self, factor: &HarmonicFactor) -> HarmonicFactor {
+        let (values, pinned) = match self.current_terms() {
+            Some(terms) => self.terms_from(&terms, factor.m),
+            None => self.assemble(factor.m),
         };
-        // Probe: x0 pseudo-random, b = K x0, solve, compare.
-        let n = self.pattern.n;
-        let x0: Vec<f64> = (0..n)
-            .map(|i| ((i as f64 + 1.0) * 0.618_033_988_75).fract() - 0.5)
-            .collect();
-        let mut b = vec![0.0; n];
-        self.pattern.sym_matvec(values, &x0, &mut b);
-        let mut x: Vec<[f64; 1]> = b.iter().map(|&v| [v]).collect();
-        solve_interleaved(&factor.symbolic, &factor.values, &mut x);
-        let (mut num, mut den) = (0.0f64, 0.0f64);
-        for (xi, x0i) in x.iter().zip(&x0) {
-            num = num.max((xi[0] - x0i).abs());
-            den = den.max(x0i.abs());
-        }
-        let err = num / den;
-        if !err.is_finite() || err > 1e-6 {
-            return Err(singular(format!("probe solve error {err:.1e}")));
-        }
-        Ok(factor)
+        self.numeric(factor.m, &values, pinned)
+            .unwrap_or_else(|e| panic!("harmonic {} factorized before, not again: {e}", factor.m))
     }
 
     /// Factorizes each harmonic in `ms`, in parallel; from [`TERMS_FROM`]
     /// harmonics on, their stiffnesses come from the [`StiffnessTerms`]
     /// (assembled once, kept for later calls).
     pub fn factorize_all(&self, ms: &[u32]) -> Result<Vec<HarmonicFactor>, SolveError> {
+        let all = self.factorize_all_with(ms, |_| true, |_| ())?;
+        Ok(all.into_iter().map(|(f, ())| f).collect())
+    }
+
+    /// [`Model::factorize_all`], with `each` run on every whole factor
+    /// (e.g. its full solves) before it is reduced to its joint block
+    /// ([`Model::joint_block`]) unless `keep_full(m)`; the others are
+    /// factorized at most [`Model::set_lean_at_once`] at a time.
+    pub fn factorize_all_with<T: Send>(
+        &self,
+        ms: &[u32],
+        keep_full: impl Fn(u32) -> bool + Sync,
+        each: impl Fn(&HarmonicFactor) -> T + Sync,
+    ) -> Result<Vec<(HarmonicFactor, T)>, SolveError> {
         if ms.len() >= TERMS_FROM {
             self.stiffness_terms();
         }
-        ms.par_iter().map(|&m| self.factorize(m)).collect()
+        self.map_bounded(
+            ms.len(),
+            |i| !keep_full(ms[i]),
+            |i| {
+                let m = ms[i];
+                let f = self.factorize(m)?;
+                let t = each(&f);
+                Ok((if keep_full(m) { f } else { self.joint_block(f) }, t))
+            },
+        )
+        .into_iter()
+        .collect()
     }
 
     /// Solves `K_m u = f` for node-DOF loads `loads` (each `3 * n_nodes`);
     /// returns node-DOF displacements (zero at supports).
+    /// A `factor` reduced to its joint block is factorized again for this
+    /// solve (and dropped after it).
     pub fn solve(&self, factor: &HarmonicFactor, loads: &[&[f64]]) -> Vec<Vec<f64>> {
+        let whole;
+        let factor = if factor.is_full() {
+            factor
+        } else {
+            whole = self.refactorize(factor);
+            &whole
+        };
         let n = self.pattern.n;
         let mut b = vec![0.0; n];
         let restrict = |k: usize, b: &mut Vec<f64>| self.dofs.restrict(loads[k], &factor.pinned, b);

@@ -34,7 +34,7 @@ mod release;
 mod setup;
 mod steps;
 
-pub use setup::FixedPoint;
+pub use setup::{FixedPoint, OBSERVED_UP_TO};
 pub use steps::{
     stress_transfer_stepped, LimitLoad, LoadStep, StepControl, Stepped, BRACKET, EASY_ITERATIONS,
     MAX_CUTBACKS, MAX_ROUNDS, MIN_INCREMENT,

@@ -16,6 +16,11 @@ use crate::solution::{Displacements, HarmonicDisplacement};
 use rayon::prelude::*;
 use std::time::Instant;
 
+/// A load step's `observe` sees the displacements of the harmonics up to
+/// this one even when their factors keep only their joint blocks (the
+/// loaded faces' mean motion is theirs: harmonics 0 and 1).
+pub const OBSERVED_UP_TO: u32 = 1;
+
 /// Joint-node values per harmonic, `[symmetric, antisymmetric]`, each
 /// `3 * joint nodes` (the node order of [`Model::joint_nodes`]).
 pub(super) type JointAmplitudes = Vec<[Vec<f64>; 2]>;
@@ -135,11 +140,11 @@ impl<'a> Setup<'a> {
         }
         // The elastic solution at the joint nodes: given, or one full solve.
         let both: Vec<bool> = loads.iter().map(|h| h.m > 0 && !sections.half).collect();
-        let u0 = loads
-            .par_iter()
-            .zip(&factor_of)
-            .zip(&both)
-            .map(|((f, factor), &both)| {
+        let u0 = model.map_bounded(
+            loads.len(),
+            |h| !factor_of[h].is_full(),
+            |h| {
+                let (f, factor, both) = (&loads[h], factor_of[h], both[h]);
                 let given = elastic.and_then(|e| e.harmonics.iter().find(|d| d.m == f.m));
                 let u = if let Some(d) = given {
                     let mut u = vec![d.symmetric.clone()];
@@ -162,8 +167,8 @@ impl<'a> Setup<'a> {
                     out
                 };
                 [pick(0), pick(1)]
-            })
-            .collect();
+            },
+        );
         let mut setup = Setup {
             model,
             laws,
@@ -350,19 +355,41 @@ impl<'a> Setup<'a> {
     }
 
     /// The displacements of every node for released section forces `x`:
-    /// one full solve of `lambda F + A x` per harmonic.
+    /// one full solve of `lambda F + A x` per harmonic (a harmonic whose
+    /// factor keeps only its joint block is factorized again for it).
     pub(super) fn full_displacements(&self, x: &[f64]) -> Displacements {
+        self.displacements(x, false)
+    }
+
+    /// Whether [`Setup::observed_displacements`] holds every harmonic.
+    pub(super) fn observes_all(&self) -> bool {
+        self.factor_of
+            .iter()
+            .all(|f| f.is_full() || f.m <= OBSERVED_UP_TO)
+    }
+
+    /// [`Setup::full_displacements`] of the harmonics a load step's
+    /// `observe` sees: up to [`OBSERVED_UP_TO`] and every harmonic whose
+    /// factor is kept whole (all of them unless some factors keep only
+    /// their joint blocks).
+    pub(super) fn observed_displacements(&self, x: &[f64]) -> Displacements {
+        self.displacements(x, true)
+    }
+
+    fn displacements(&self, x: &[f64], observed: bool) -> Displacements {
         let n = self.model.mesh.nodes.len();
         let mut released = self.zero_loads();
         self.analyse(x, &mut released);
-        let harmonics = self
-            .loads
-            .par_iter()
-            .zip(&self.factor_of)
-            .zip(&released)
-            .enumerate()
-            .map(|(h, ((f, factor), g))| {
-                let f = f.scaled(self.lambda);
+        let wanted: Vec<usize> = (0..self.loads.len())
+            .filter(|&h| !observed || self.factor_of[h].is_full() || self.loads[h].m <= OBSERVED_UP_TO)
+            .collect();
+        let harmonics = self.model.map_bounded(
+            wanted.len(),
+            |i| !self.factor_of[wanted[i]].is_full(),
+            |i| {
+                let h = wanted[i];
+                let (factor, g) = (self.factor_of[h], &released[h]);
+                let f = self.loads[h].scaled(self.lambda);
                 let mut loads = [f.symmetric, f.antisymmetric];
                 for (vec, gk) in loads.iter_mut().zip(g) {
                     for (&k, gj) in self.joint_nodes.iter().zip(gk.chunks_exact(3)) {
@@ -388,8 +415,8 @@ impl<'a> Setup<'a> {
                         antisymmetric: vec![0.0; 3 * n],
                     }
                 }
-            })
-            .collect();
+            },
+        );
         Displacements { harmonics }
     }
 

@@ -124,7 +124,10 @@ pub struct Stepped<T> {
 }
 
 /// Solves `loads` by proportional loading with the history law. `observe`
-/// sees the displacements and joint field of every converged step.
+/// sees the displacements and joint field of every converged step: the
+/// displacements of harmonics 0..=[`super::OBSERVED_UP_TO`] and of every harmonic
+/// whose factor is whole (all of them unless some keep only their joint
+/// block, see [`Model::joint_block`]; the others are then absent).
 #[allow(clippy::too_many_arguments)]
 pub fn stress_transfer_stepped<T>(
     model: &Model,
@@ -154,7 +157,8 @@ pub fn stress_transfer_stepped<T>(
         .collect();
     let mut x_c = vec![0.0; nx];
     let mut lam_c = 0.0f64;
-    let mut last: Option<(Converged, Displacements)> = None;
+    // The last converged step, and its displacements if they hold every harmonic.
+    let mut last: Option<(Converged, Option<Displacements>)> = None;
     let mut steps: Vec<LoadStep<T>> = Vec::new();
     let mut delta = control.first.clamp(MIN_INCREMENT, 1.0);
     let mut failed_at: Option<f64> = None;
@@ -186,7 +190,7 @@ pub fn stress_transfer_stepped<T>(
                 committed = hist;
                 lam_c = target;
                 x_c.clone_from(&conv.x);
-                let displacements = setup.full_displacements(&x_c);
+                let displacements = setup.observed_displacements(&x_c);
                 let field = setup.field(&conv.ev);
                 let observed = observe(lam_c, &displacements, &field);
                 let (open, slip, stick) = state_counts(&conv.ev.state);
@@ -202,7 +206,7 @@ pub fn stress_transfer_stepped<T>(
                     stick,
                     observed,
                 });
-                last = Some((conv, displacements));
+                last = Some((conv, setup.observes_all().then_some(displacements)));
                 (cutbacks, spent) = (0, 0);
                 if lam_c >= 1.0 {
                     break None;
@@ -240,7 +244,11 @@ pub fn stress_transfer_stepped<T>(
     setup.lambda = lam_c;
     setup.history = Some(committed);
     let outcome = match last {
-        Some((conv, displacements)) => setup.finish_with(conv, displacements),
+        Some((conv, displacements)) => {
+            // Joint blocks only: the whole displacements once, at the end.
+            let displacements = displacements.unwrap_or_else(|| setup.full_displacements(&x_c));
+            setup.finish_with(conv, displacements)
+        }
         None => {
             let mut released = setup.zero_loads();
             let mut ev = setup.new_eval();
