@@ -9,7 +9,11 @@
 //!   b-b profile moves by less than 1.5 % of its max |sigma_r| against the
 //!   mesh adapted to 0.4 % (measured 1.3 %, next to the re-entrant corner
 //!   r = 0.5, z = 0, where the estimate is low by up to 2: docs/accuracy.md);
-//!   the cycle table is in summary.json and adapt.csv.
+//!   the cycle table is in summary.json and adapt.csv;
+//! - Scene P bonded with target 0.2 %, which takes two cycles: the b-b
+//!   profile moves by less than 1 % of its max |sigma_r| between the last
+//!   two cycles (measured 0.72 %; at target 1 % the run stops after one
+//!   cycle: docs/accuracy.md).
 
 use serde_json::Value;
 use std::path::{Path, PathBuf};
@@ -133,21 +137,56 @@ fn adaptation_reaches_the_target_with_fewer_unknowns_than_uniform_refinement() {
     assert!(csv.starts_with("cycle,nodes,dofs_per_harmonic,bore_theta0,energy_norm,seconds"));
 }
 
+/// Scene P bonded with `mesh.adapt` {target, max_cycles} into `tmp`;
+/// returns the output folder and summary.json.
+fn scene_p_adapted(tmp: &Path, target: f64, max_cycles: u64) -> (PathBuf, Value) {
+    let mut scene: Value =
+        serde_json::from_str(&std::fs::read_to_string(geo("pile_footing_bonded.json")).unwrap()).unwrap();
+    scene["mesh"]["file"] = Value::String(geo("pile_footing.geo").display().to_string());
+    scene["mesh"]["adapt"] = serde_json::json!({"target": target, "max_cycles": max_cycles});
+    scene["outputs"] = serde_json::json!({"csv": true, "plots": false, "vtu": false, "gmsh_views": false});
+    let name = format!("p_{target}_{max_cycles}");
+    let path = tmp.join(format!("{name}.json"));
+    std::fs::write(&path, scene.to_string()).unwrap();
+    let out = tmp.join(name);
+    let summary = run(&path, &out);
+    (out, summary)
+}
+
+/// The largest change of the b-b `sigma_r` profiles from `a` to `b`, as a
+/// fraction of `b`'s max |sigma_r|, for theta 0 and 180.
+fn b_b_changes(a: &Path, b: &Path) -> Vec<f64> {
+    ["0", "180"]
+        .iter()
+        .map(|theta| {
+            let name = format!("cut_b-b_theta{theta}.csv");
+            let ra = cut_rows(&a.join(&name), "sigma_r");
+            let rb = cut_rows(&b.join(&name), "sigma_r");
+            assert_eq!(ra.len(), rb.len());
+            let max = rb.iter().map(|r| r.3.abs()).fold(0.0, f64::max);
+            let change = ra
+                .iter()
+                .zip(&rb)
+                .map(|(x, y)| {
+                    assert!((x.0 - y.0).abs() < 1e-9 && x.1 == y.1);
+                    (x.3 - y.3).abs()
+                })
+                .fold(0.0, f64::max);
+            println!(
+                "b-b theta {theta}: change {:.3e} of max |sigma_r| {max:.3e}",
+                change / max
+            );
+            change / max
+        })
+        .collect()
+}
+
 #[test]
 fn scene_p_bonded_adapted_to_one_percent_is_close_to_a_finer_adaptation() {
     let tmp = tempfile::tempdir().unwrap();
     let mut outs = Vec::new();
     for target in [0.01, 0.004] {
-        let mut scene: Value =
-            serde_json::from_str(&std::fs::read_to_string(geo("pile_footing_bonded.json")).unwrap()).unwrap();
-        scene["mesh"]["file"] = Value::String(geo("pile_footing.geo").display().to_string());
-        scene["mesh"]["adapt"] = serde_json::json!({"target": target, "max_cycles": 6});
-        scene["outputs"] =
-            serde_json::json!({"csv": true, "plots": false, "vtu": false, "gmsh_views": false});
-        let path = tmp.path().join(format!("p_{target}.json"));
-        std::fs::write(&path, scene.to_string()).unwrap();
-        let out = tmp.path().join(format!("p_{target}"));
-        let summary = run(&path, &out);
+        let (out, summary) = scene_p_adapted(tmp.path(), target, 6);
         assert_eq!(
             summary["adapt"]["reached"],
             Value::Bool(true),
@@ -161,28 +200,36 @@ fn scene_p_bonded_adapted_to_one_percent_is_close_to_a_finer_adaptation() {
             .any(|f| f == "adapt.csv"));
         outs.push(out);
     }
-    for theta in ["0", "180"] {
-        let name = format!("cut_b-b_theta{theta}.csv");
-        let coarse = cut_rows(&outs[0].join(&name), "sigma_r");
-        let fine = cut_rows(&outs[1].join(&name), "sigma_r");
-        assert_eq!(coarse.len(), fine.len());
-        let max = fine.iter().map(|r| r.3.abs()).fold(0.0, f64::max);
-        let change = coarse
-            .iter()
-            .zip(&fine)
-            .map(|(a, b)| {
-                assert!((a.0 - b.0).abs() < 1e-9 && a.1 == b.1);
-                (a.3 - b.3).abs()
-            })
-            .fold(0.0, f64::max);
-        println!(
-            "b-b theta {theta}: change {:.3e} of max |sigma_r| {max:.3e}",
-            change / max
-        );
+    for change in b_b_changes(&outs[0], &outs[1]) {
+        assert!(change < 0.015, "b-b change {change} of max");
+    }
+}
+
+/// The check, on a target that takes two cycles: the b-b profile of
+/// the last cycle against the cycle before it (the same run stopped one
+/// cycle earlier by max_cycles; gmsh meshes the same views alike).
+#[test]
+fn scene_p_bonded_last_two_cycles_differ_by_less_than_one_percent() {
+    let tmp = tempfile::tempdir().unwrap();
+    let target = 0.002;
+    let (last, summary) = scene_p_adapted(tmp.path(), target, 6);
+    assert_eq!(
+        summary["adapt"]["reached"],
+        Value::Bool(true),
+        "{}",
+        summary["adapt"]
+    );
+    let cycles = summary["adapt"]["cycles"].as_array().unwrap().len() as u64 - 1;
+    assert!(cycles >= 2, "{}", summary["adapt"]);
+    let (before, s) = scene_p_adapted(tmp.path(), target, cycles - 1);
+    assert_eq!(
+        s["adapt"]["cycles"].as_array().unwrap().last().unwrap()["dofs_per_harmonic"],
+        summary["adapt"]["cycles"][(cycles - 1) as usize]["dofs_per_harmonic"]
+    );
+    for change in b_b_changes(&before, &last) {
         assert!(
-            change < 0.015 * max,
-            "b-b theta {theta}: change {} of max",
-            change / max
+            change < 0.01,
+            "b-b change {change} of max between the last two cycles"
         );
     }
 }
