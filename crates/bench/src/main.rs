@@ -3,7 +3,7 @@
 
 use anyhow::{bail, Context, Result};
 use axijoint_bench::chart::write_chart;
-use axijoint_bench::summary::{format_table, summarize, write_summary_csv};
+use axijoint_bench::summary::{format_ratio_table, format_table, summarize, write_summary_csv};
 use axijoint_bench::sweep::{
     compute_errors, known_variant, plan, read_csv, run_job, run_peer, write_csv, Config, Outcome, Row,
 };
@@ -16,6 +16,10 @@ const DEFAULT_SIZES: [f64; 4] = [0.4, 0.2, 0.12, 0.07];
 
 /// Default mesh sizes of the peer (coarse to fine).
 const DEFAULT_PEER_SIZES: [f64; 3] = [0.2, 0.14, 0.1];
+
+/// --ratio: axijoint's mesh sizes (coarser ones too: the peer's error is
+/// reached below 0.4).
+const RATIO_SIZES: [f64; 8] = [1.0, 0.8, 0.6, 0.4, 0.3, 0.2, 0.12, 0.07];
 
 const ABOUT: &str = "Accuracy against cost of axijoint on Scene P (and of a CalculiX 3D peer)";
 
@@ -73,7 +77,17 @@ thick grey step line with ringed markers: the variant's Pareto front over
 all axijoint runs. Summary: the solve time each family (and `all`) needs for
 1 % and 0.1 % error (log-log interpolation on its Pareto front), and per peer
 run the ratio peer time / axijoint time at the peer's error (vs axijoint's
-reference), wall and CPU.";
+reference), wall and CPU.
+
+--ratio: the peer ratio of the four peer variants bonded, linear,
+frictionless (C = 0, phi = 0) and coulomb in one run: the peer at its finest
+level only (0.1), axijoint at sizes 1.0 to 0.07, M = 4, 8, 16, 32, newton,
+each `axijoint solve` also timed 3 times with the mesh from a warm cache
+(WORK/mesh-cache; the fastest kept). Prints per variant peer time / axijoint
+time at the peer's profile error, with meshing (gmsh + ccx against `solve
+--no-cache`) and without (ccx alone against the warm `solve`), and whether
+each reaches 1000. Writes OUT/ratio.csv, ratio.svg/.png and
+ratio_summary.csv.";
 
 /// Command line.
 #[derive(Parser, Debug)]
@@ -84,6 +98,10 @@ struct Cli {
     /// WORK/quick unless --out-dir is given.
     #[arg(long)]
     quick: bool,
+    /// The peer ratio of bonded, linear, frictionless and coulomb (see
+    /// below); explicit options still apply.
+    #[arg(long)]
+    ratio: bool,
     /// Skip the CalculiX peer.
     #[arg(long)]
     no_peer: bool,
@@ -94,8 +112,9 @@ struct Cli {
     /// Scratch folder (scenes, run folders, kept cut CSVs, peer runs).
     #[arg(long, default_value = "target/bench-accuracy")]
     work_dir: PathBuf,
-    /// Variants, comma-separated.
-    #[arg(long, value_delimiter = ',', default_value = "bonded,linear,coulomb,table1")]
+    /// Variants, comma-separated [default: bonded,linear,coulomb,table1;
+    /// --ratio: bonded,linear,frictionless,coulomb].
+    #[arg(long, value_delimiter = ',')]
     variants: Vec<String>,
     /// Mesh sizes (`size` of geo/pile_footing.geo); the smallest is the
     /// reference level [default: 0.4,0.2,0.12,0.07, about 1.4e3, 4.1e3,
@@ -173,6 +192,26 @@ fn which(name: &Path) -> PathBuf {
 fn real_main() -> Result<()> {
     let mut cli = Cli::parse();
     let q = cli.quick;
+    let r = cli.ratio;
+    if cli.variants.is_empty() {
+        let v: &[&str] = if r {
+            &["bonded", "linear", "frictionless", "coulomb"]
+        } else {
+            &["bonded", "linear", "coulomb", "table1"]
+        };
+        cli.variants = v.iter().map(|s| s.to_string()).collect();
+    }
+    if r && !q {
+        if cli.sizes.is_empty() {
+            cli.sizes = RATIO_SIZES.to_vec();
+        }
+        if cli.methods.is_empty() {
+            cli.methods = vec!["newton".into()];
+        }
+        if cli.peer_sizes.is_empty() {
+            cli.peer_sizes = DEFAULT_PEER_SIZES[2..].to_vec();
+        }
+    }
     if cli.sizes.is_empty() {
         cli.sizes = if q { vec![0.4, 0.2] } else { DEFAULT_SIZES.to_vec() };
     }
@@ -206,7 +245,8 @@ fn real_main() -> Result<()> {
         }
     });
     std::fs::create_dir_all(&out_dir).with_context(|| format!("cannot create {}", out_dir.display()))?;
-    let csv_path = out_dir.join("accuracy.csv");
+    let stem = if r { "ratio" } else { "accuracy" };
+    let csv_path = out_dir.join(format!("{stem}.csv"));
     let variants: Vec<String> = cli.variants.clone();
 
     let rows: Vec<Row> = if let Some(csv) = &cli.replot {
@@ -250,19 +290,23 @@ fn real_main() -> Result<()> {
                 cli.peer_sizes.clone()
             },
             keep: cli.keep,
+            warm_solves: if r { 3 } else { 0 },
         };
         run_sweep(&cfg)?
     };
     if cli.replot.is_none() {
         write_csv(&csv_path, &rows)?;
     }
-    let svg = out_dir.join("accuracy.svg");
-    let png = out_dir.join("accuracy.png");
+    let svg = out_dir.join(format!("{stem}.svg"));
+    let png = out_dir.join(format!("{stem}.png"));
     write_chart(&rows, &variants, &svg, &png)?;
     let summary = summarize(&rows);
-    let summary_path = out_dir.join("accuracy_summary.csv");
+    let summary_path = out_dir.join(format!("{stem}_summary.csv"));
     write_summary_csv(&summary_path, &summary)?;
     println!("\n{}", format_table(&summary));
+    if r {
+        println!("{}", format_ratio_table(&summary));
+    }
     let failed = rows.iter().filter(|r| !r.ok()).count();
     if failed > 0 {
         println!(

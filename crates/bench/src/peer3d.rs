@@ -20,6 +20,8 @@
 //! - [`PeerVariant::Coulomb`]: `PRESSURE-OVERCLOSURE=LINEAR` (K = k_eta, no
 //!   tension in surface-to-surface contact), friction tan 30 deg with stick
 //!   slope 1e4 MPa/m, no cohesion.
+//! - [`PeerVariant::Frictionless`]: the same contact without `*FRICTION`
+//!   (phi = 0: no shear).
 //! - The CalculiX slope is pressure per overclosure, MPa/m here: the same
 //!   number as axijoint's k.
 //! - Load: consistent nodal forces of the beam-theory tractions on the pile
@@ -49,15 +51,18 @@ pub enum PeerVariant {
     Linear,
     /// No tension, Coulomb friction (phi = 30 deg, no cohesion).
     Coulomb,
+    /// No tension, no friction (phi = 0, no cohesion).
+    Frictionless,
 }
 
 impl PeerVariant {
-    /// "bonded", "linear" or "coulomb".
+    /// "bonded", "linear", "coulomb" or "frictionless".
     pub fn name(&self) -> &'static str {
         match self {
             PeerVariant::Bonded => "bonded",
             PeerVariant::Linear => "linear",
             PeerVariant::Coulomb => "coulomb",
+            PeerVariant::Frictionless => "frictionless",
         }
     }
 }

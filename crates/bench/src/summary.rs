@@ -14,6 +14,9 @@ use std::path::Path;
 /// Errors whose cost the summary reports.
 pub const TARGETS: [f64; 2] = [1e-2, 1e-3];
 
+/// The goal for the peer's finest level: peer time / axijoint time.
+pub const RATIO_GOAL: f64 = 1000.0;
+
 /// One line of `accuracy_summary.csv`.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct SummaryRow {
@@ -41,6 +44,18 @@ pub struct SummaryRow {
     pub ratio_wall: Option<f64>,
     /// peer_cpu_s / axijoint_cpu_s.
     pub ratio_cpu: Option<f64>,
+    /// True for the ratio of the peer's finest level of the variant.
+    #[serde(default)]
+    pub peer_finest: bool,
+    /// The peer's ccx wall time alone (no meshing) (s).
+    #[serde(default)]
+    pub peer_warm_wall_s: Option<f64>,
+    /// axijoint solve wall time with the mesh cache warm at that error (s).
+    #[serde(default)]
+    pub axijoint_warm_wall_s: Option<f64>,
+    /// peer_warm_wall_s / axijoint_warm_wall_s.
+    #[serde(default)]
+    pub ratio_warm_wall: Option<f64>,
 }
 
 /// The front of `rows` in (time, error), time read by `t`.
@@ -101,13 +116,17 @@ pub fn summarize(rows: &[Row]) -> Vec<SummaryRow> {
         }
         let fw = front_of(&ax, |r| r.solve_wall_s);
         let fc = front_of(&ax, |r| r.solve_cpu_s);
-        for p in rows
+        let fwarm = front_of(&ax, |r| r.solve_warm_wall_s);
+        let peers: Vec<&Row> = rows
             .iter()
             .filter(|r| r.variant == v && r.tool == "calculix" && r.ok())
-        {
+            .collect();
+        let finest = peers.iter().map(|r| r.size).min_by(f64::total_cmp);
+        for p in peers {
             let Some(e) = p.err_vs_axijoint_ref else { continue };
             let w = cost_at_error(&fw, e);
             let c = cost_at_error(&fc, e);
+            let warm = cost_at_error(&fwarm, e);
             let ratio = |peer: Option<f64>, ax: Option<(f64, bool)>| Some(peer? / ax?.0);
             out.push(SummaryRow {
                 kind: "peer_ratio".into(),
@@ -116,11 +135,15 @@ pub fn summarize(rows: &[Row]) -> Vec<SummaryRow> {
                 error: e,
                 axijoint_wall_s: w.map(|x| x.0),
                 axijoint_cpu_s: c.map(|x| x.0),
-                upper_bound: w.is_some_and(|x| x.1) || c.is_some_and(|x| x.1),
+                upper_bound: [w, c, warm].iter().any(|x| x.is_some_and(|x| x.1)),
                 peer_wall_s: p.solve_wall_s,
                 peer_cpu_s: p.solve_cpu_s,
                 ratio_wall: ratio(p.solve_wall_s, w),
                 ratio_cpu: ratio(p.solve_cpu_s, c),
+                peer_finest: Some(p.size) == finest,
+                peer_warm_wall_s: p.solve_warm_wall_s,
+                axijoint_warm_wall_s: warm.map(|x| x.0),
+                ratio_warm_wall: ratio(p.solve_warm_wall_s, warm),
             });
         }
     }
@@ -184,6 +207,55 @@ pub fn format_table(rows: &[SummaryRow]) -> String {
                 f(r.ratio_cpu)
             ));
         }
+    }
+    s
+}
+
+/// Per variant, the peer's finest level against axijoint at its profile
+/// error, and whether the ratio reaches [`RATIO_GOAL`]: with meshing (peer
+/// gmsh + ccx, `axijoint solve --no-cache`) and without (ccx alone,
+/// `axijoint solve` with the mesh cache warm).
+pub fn format_ratio_table(rows: &[SummaryRow]) -> String {
+    let f = |x: Option<f64>| x.map_or("-".to_owned(), |v| format!("{v:.4}"));
+    let r0 = |x: Option<f64>| x.map_or("-".to_owned(), |v| format!("{v:.0}"));
+    let goal = |x: Option<f64>| match x {
+        Some(v) if v >= RATIO_GOAL => "yes",
+        Some(_) => "no",
+        None => "-",
+    };
+    let mut s = format!(
+        "peer's finest level / axijoint at the same profile error (goal >= {RATIO_GOAL}; '<=': axijoint's cheapest run is already below the error)\n"
+    );
+    s.push_str(&format!(
+        "{:<13} {:<19} {:>8} {:>9} {:>10} {:>7} {:>4} {:>9} {:>10} {:>7} {:>4}\n",
+        "variant",
+        "peer",
+        "error",
+        "peer [s]",
+        "axi [s]",
+        "ratio",
+        "goal",
+        "ccx [s]",
+        "axi warm",
+        "ratio",
+        "goal"
+    ));
+    for r in rows.iter().filter(|r| r.kind == "peer_ratio" && r.peer_finest) {
+        let b = if r.upper_bound { "<=" } else { "" };
+        s.push_str(&format!(
+            "{:<13} {:<19} {:>7.2}% {:>9.2} {:>10} {:>7} {:>4} {:>9.2} {:>10} {:>7} {:>4}\n",
+            r.variant,
+            r.family,
+            100.0 * r.error,
+            r.peer_wall_s.unwrap_or(f64::NAN),
+            format!("{b}{}", f(r.axijoint_wall_s)),
+            r0(r.ratio_wall),
+            goal(r.ratio_wall),
+            r.peer_warm_wall_s.unwrap_or(f64::NAN),
+            format!("{b}{}", f(r.axijoint_warm_wall_s)),
+            r0(r.ratio_warm_wall),
+            goal(r.ratio_warm_wall),
+        ));
     }
     s
 }

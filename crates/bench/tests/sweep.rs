@@ -6,7 +6,7 @@ use axijoint_bench::chart::{write_chart, FRONT_LABEL, PEER_LABEL};
 use axijoint_bench::errors::{read_cut_csv, read_scene_p_profiles, relative_error};
 use axijoint_bench::pareto::{cost_at_error, front};
 use axijoint_bench::profile::Profile;
-use axijoint_bench::summary::summarize;
+use axijoint_bench::summary::{format_ratio_table, summarize};
 use axijoint_bench::sweep::{
     compute_errors, failure_line, known_variant, read_csv, run_job, write_csv, Config, Job, Row,
 };
@@ -224,6 +224,32 @@ fn summary_interpolates_and_gives_the_peer_ratio() {
 }
 
 #[test]
+fn ratio_table_takes_the_peers_finest_level_and_the_warm_times() {
+    let mut rows = vec![
+        row("frictionless", "newton", 0.4, 0.1, Some(1e-1)),
+        row("frictionless", "newton", 0.2, 1.0, Some(1e-3)),
+        row("frictionless", "ccx", 0.2, 20.0, Some(1e-1)),
+        row("frictionless", "ccx", 0.1, 2000.0, Some(1e-2)),
+    ];
+    for (r, warm) in rows.iter_mut().zip([0.01, 0.1, 10.0, 1000.0]) {
+        r.solve_warm_wall_s = Some(warm);
+    }
+    let s = summarize(&rows);
+    let finest: Vec<_> = s.iter().filter(|r| r.peer_finest).collect();
+    assert_eq!(finest.len(), 1);
+    assert_eq!(finest[0].family, "calculix size 0.1");
+    // At 1e-2, halfway in log-log: sqrt(0.1 * 1.0) and sqrt(0.01 * 0.1).
+    assert!((finest[0].ratio_wall.unwrap() - 2000.0 / 0.1f64.sqrt()).abs() < 1e-6);
+    assert!((finest[0].ratio_warm_wall.unwrap() - 1000.0 / 0.001f64.sqrt()).abs() < 1e-6);
+    let t = format_ratio_table(&s);
+    assert_eq!(t.lines().count(), 3, "{t}");
+    assert!(
+        t.contains("6325") && t.contains("31623") && t.contains("yes"),
+        "{t}"
+    );
+}
+
+#[test]
 fn chart_names_every_series() {
     let mut failed = row("table1", "paper", 0.05, 10.0, None);
     failed.status = "failed: no equilibrium".into();
@@ -311,6 +337,7 @@ fn one_coarse_real_run() {
         ref_method: "newton".into(),
         peer_sizes: vec![],
         keep: false,
+        warm_solves: 0,
     };
     let job = |eps: f64, role: &str| Job {
         variant: variant.clone(),

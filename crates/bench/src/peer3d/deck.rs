@@ -70,7 +70,7 @@ pub fn write_deck(model: &Model3d, load: &EndLoad, variant: PeerVariant) -> Stri
                 }
             }
         }
-        PeerVariant::Linear | PeerVariant::Coulomb => {
+        PeerVariant::Linear | PeerVariant::Coulomb | PeerVariant::Frictionless => {
             write_surface(&mut s, "SPILE", &model.joint_faces_pile);
             write_surface(&mut s, "SFOOTING", &model.joint_faces_footing);
             s.push_str("*SURFACE INTERACTION, NAME=JOINT\n");
@@ -85,8 +85,11 @@ pub fn write_deck(model: &Model3d, load: &EndLoad, variant: PeerVariant) -> Stri
                     s,
                     "*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR\n{K_ETA:e}, 1.0e-6"
                 );
-                let mu = PHI_DEG.to_radians().tan();
-                let _ = writeln!(s, "*FRICTION\n{mu:.12}, {K_XI:e}");
+                if variant == PeerVariant::Coulomb {
+                    let mu = PHI_DEG.to_radians().tan();
+                    let _ = writeln!(s, "*FRICTION\n{mu:.12}, {K_XI:e}");
+                }
+                // Frictionless: no *FRICTION, no shear.
             }
             s.push_str("*CONTACT PAIR, INTERACTION=JOINT, TYPE=SURFACE TO SURFACE\nSPILE, SFOOTING\n");
         }
