@@ -169,6 +169,28 @@ fn end_load_nodal_forces_are_consistent() {
 }
 
 #[test]
+fn frictionless_deck_is_coulombs_without_friction() {
+    let dir = tempfile::tempdir().unwrap();
+    let Some(opts) = options(0.3, dir.path()) else {
+        return;
+    };
+    let msh = dir.path().join("m.msh");
+    peer3d::mesh(&opts, &msh).unwrap();
+    let model = Model3d::from_msh(&msh).unwrap();
+    let end = load::end_load(&model);
+    let coulomb = peer3d::deck::write_deck(&model, &end, PeerVariant::Coulomb);
+    let frictionless = peer3d::deck::write_deck(&model, &end, PeerVariant::Frictionless);
+    assert!(coulomb.contains("*FRICTION\n"));
+    assert!(!frictionless.contains("*FRICTION"));
+    let without: Vec<&str> = coulomb
+        .lines()
+        .skip(1)
+        .filter(|l| !l.starts_with("*FRICTION") && !l.starts_with("0.577"))
+        .collect();
+    assert_eq!(without, frictionless.lines().skip(1).collect::<Vec<_>>());
+}
+
+#[test]
 fn bonded_coarse_equilibrium_and_antisymmetry() {
     let dir = tempfile::tempdir().unwrap();
     let Some(opts) = options(0.2, dir.path()) else {
