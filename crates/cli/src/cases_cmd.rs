@@ -23,15 +23,7 @@ pub fn run(path: &Path, scene: &Scene, common: &CommonArgs, report: bool) -> Res
     let out = common.output.clone().unwrap_or_else(|| default_output(path));
     prepare(&out)?;
     let tmp = tempfile::tempdir().context("creating a temporary folder")?;
-    let is_geo = scene
-        .mesh_path()
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("geo"));
-    let msh = if is_geo {
-        tmp.path().join("mesh.msh")
-    } else {
-        scene.mesh_path()
-    };
+    let msh = crate::solve_cmd::solved_msh(scene, tmp.path());
     let folder = |k: usize| out.join(&scene.load_cases[k].name);
     let mut outcomes: Vec<(String, PathBuf, Result<()>)> = Vec::new();
     let mut index = Vec::new();

@@ -7,6 +7,7 @@
 //! `summary.json`.
 
 pub mod cases_cmd;
+pub mod exit;
 pub mod mesh_cmd;
 pub mod report_cmd;
 pub mod solve_cmd;

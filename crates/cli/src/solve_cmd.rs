@@ -105,18 +105,24 @@ pub fn solve_and_write(scene_path: &Path, common: &CommonArgs) -> Result<(Scene,
     Ok((scene, out, header))
 }
 
-/// Solves `scene` into the solution folder `out`.
-pub fn solve_to(scene: &Scene, out: &Path, quiet: bool) -> Result<SolutionHeader> {
-    let tmp = tempfile::tempdir().context("creating a temporary folder")?;
+/// The `.msh` a run of `scene` solves: gmsh's output in `tmp` for a `.geo`,
+/// else the scene's own `.msh`.
+pub fn solved_msh(scene: &Scene, tmp: &Path) -> PathBuf {
     let is_geo = scene
         .mesh_path()
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("geo"));
-    let msh = if is_geo {
-        tmp.path().join("mesh.msh")
+    if is_geo {
+        tmp.join("mesh.msh")
     } else {
         scene.mesh_path()
-    };
+    }
+}
+
+/// Solves `scene` into the solution folder `out`.
+pub fn solve_to(scene: &Scene, out: &Path, quiet: bool) -> Result<SolutionHeader> {
+    let tmp = tempfile::tempdir().context("creating a temporary folder")?;
+    let msh = solved_msh(scene, tmp.path());
 
     let bar = if quiet {
         ProgressBar::hidden()

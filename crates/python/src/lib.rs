@@ -8,6 +8,7 @@
 //! `axijoint.Error` (a subclass per exit status of the binary) with the
 //! binary's message and `exit_status`.
 
+use axijoint_cli::exit::{exit_status, BEYOND_CAPACITY, GMSH_FAILURE, IO_ERROR, NUMERICAL_FAILURE};
 use axijoint_cli::{report_cmd, solve_cmd};
 use axijoint_solver::results::read_solution;
 use axijoint_solver::scene::Scene;
@@ -128,126 +129,6 @@ fn to_py(py: Python<'_>, e: &anyhow::Error) -> PyErr {
         return e;
     }
     err
-}
-
-// The exit statuses and their classification, as in the binary's
-// `src/main.rs` (docs/outputs.md, "Exit status").
-const INPUT_ERROR: u8 = 1;
-const BEYOND_CAPACITY: u8 = 3;
-const GMSH_FAILURE: u8 = 4;
-const IO_ERROR: u8 = 5;
-const NUMERICAL_FAILURE: u8 = 6;
-
-fn exit_status(e: &anyhow::Error) -> u8 {
-    e.chain().find_map(class_of).unwrap_or(INPUT_ERROR)
-}
-
-fn class_of(c: &(dyn std::error::Error + 'static)) -> Option<u8> {
-    use axijoint_mesh::MeshError;
-    use axijoint_report::error::ReportError;
-    use axijoint_solver::error::SolverError;
-    use axijoint_solver::iteration::IterationError;
-    use axijoint_solver::linear::SolveError;
-    use axijoint_solver::scene::SceneError;
-    if let Some(l) = c.downcast_ref::<solve_cmd::LimitReached>() {
-        return Some(if l.beyond_capacity {
-            BEYOND_CAPACITY
-        } else {
-            NUMERICAL_FAILURE
-        });
-    }
-    if let Some(e) = c.downcast_ref::<SolverError>() {
-        return Some(solver_status(e));
-    }
-    if let Some(e) = c.downcast_ref::<IterationError>() {
-        return Some(iteration_status(e));
-    }
-    if let Some(e) = c.downcast_ref::<MeshError>() {
-        return Some(mesh_status(e));
-    }
-    if let Some(e) = c.downcast_ref::<SceneError>() {
-        return Some(scene_status(e));
-    }
-    if let Some(e) = c.downcast_ref::<SolveError>() {
-        return Some(solve_status(e));
-    }
-    if let Some(e) = c.downcast_ref::<ReportError>() {
-        return Some(match e {
-            ReportError::Write { .. } => IO_ERROR,
-            ReportError::NotFinite { .. } => NUMERICAL_FAILURE,
-            ReportError::Input(_) => INPUT_ERROR,
-        });
-    }
-    if c.downcast_ref::<std::io::Error>().is_some() {
-        return Some(IO_ERROR);
-    }
-    None
-}
-
-fn solver_status(e: &axijoint_solver::error::SolverError) -> u8 {
-    use axijoint_solver::error::{OutputFault, SolverError};
-    match e {
-        SolverError::Mesh(e) => mesh_status(e),
-        SolverError::Scene(e) => scene_status(e),
-        SolverError::Solve(e) => solve_status(e),
-        SolverError::Iteration(e) => iteration_status(e),
-        SolverError::InitialPhase { beyond_capacity, .. } => {
-            if *beyond_capacity {
-                BEYOND_CAPACITY
-            } else {
-                NUMERICAL_FAILURE
-            }
-        }
-        SolverError::Output { fault, .. } => match fault {
-            OutputFault::Io => IO_ERROR,
-            OutputFault::Content => INPUT_ERROR,
-            OutputFault::NotFinite => NUMERICAL_FAILURE,
-        },
-    }
-}
-
-fn iteration_status(e: &axijoint_solver::iteration::IterationError) -> u8 {
-    use axijoint_solver::iteration::IterationError;
-    match e {
-        IterationError::NoEquilibrium { .. } => BEYOND_CAPACITY,
-        IterationError::NotConverged { .. }
-        | IterationError::StiffJoint { .. }
-        | IterationError::Rounds { .. } => NUMERICAL_FAILURE,
-        IterationError::Setup(_) => INPUT_ERROR,
-    }
-}
-
-fn mesh_status(e: &axijoint_mesh::MeshError) -> u8 {
-    use axijoint_mesh::MeshError;
-    match e {
-        MeshError::GmshMissing { .. } | MeshError::GmshFailed { .. } => GMSH_FAILURE,
-        MeshError::Io { source, .. } => io_status(source),
-        MeshError::Parse { .. } | MeshError::Invalid { .. } | MeshError::UnknownName { .. } => INPUT_ERROR,
-    }
-}
-
-fn scene_status(e: &axijoint_solver::scene::SceneError) -> u8 {
-    use axijoint_solver::scene::SceneError;
-    match e {
-        SceneError::Io { source, .. } => io_status(source),
-        SceneError::Parse { .. } | SceneError::Invalid { .. } | SceneError::UnknownName { .. } => INPUT_ERROR,
-    }
-}
-
-fn solve_status(e: &axijoint_solver::linear::SolveError) -> u8 {
-    use axijoint_solver::linear::SolveError;
-    match e {
-        SolveError::Singular { .. } | SolveError::Input(_) => INPUT_ERROR,
-        SolveError::Factorization(_) => NUMERICAL_FAILURE,
-    }
-}
-
-fn io_status(e: &std::io::Error) -> u8 {
-    if e.kind() == std::io::ErrorKind::NotFound {
-        INPUT_ERROR
-    } else {
-        IO_ERROR
-    }
 }
 
 /// Uses the mesh cache of the binary (its default folder) or none, for

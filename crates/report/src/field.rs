@@ -194,20 +194,8 @@ impl Field<'_> {
     pub fn stress(&self, cell: usize, xi: [f64; 2], theta: f64) -> [f64; 6] {
         let mut out = self.stress_of(self.u, cell, xi, theta);
         if let Some(init) = &self.initial {
-            let c = &self.mesh.cells[cell];
-            if let Some((s0, gamma)) = init.stress[c.body] {
-                let mut n = [0.0; axijoint_mesh::shapes::MAX_CELL_NODES];
-                let nn = c.kind.n_nodes();
-                c.kind.eval_n(xi, &mut n[..nn]);
-                let z: f64 = c
-                    .nodes
-                    .iter()
-                    .zip(&n[..nn])
-                    .map(|(&k, ni)| ni * self.mesh.nodes[k][1])
-                    .sum();
-                for (o, v) in out.iter_mut().zip(s0.at(z, gamma)) {
-                    *o += v;
-                }
+            for (o, v) in out.iter_mut().zip(self.sigma0(init, cell, xi)) {
+                *o += v;
             }
             if let Some(u0) = init.u {
                 for (o, v) in out.iter_mut().zip(self.stress_of(u0, cell, xi, theta)) {
@@ -253,6 +241,25 @@ impl Field<'_> {
         out
     }
 
+    /// The initial stress `sigma_0` of `init` at `xi` of `cell` (zero where
+    /// the body has none).
+    fn sigma0(&self, init: &Initial, cell: usize, xi: [f64; 2]) -> [f64; 6] {
+        let c = &self.mesh.cells[cell];
+        let Some((s0, gamma)) = init.stress[c.body] else {
+            return [0.0; 6];
+        };
+        let mut n = [0.0; axijoint_mesh::shapes::MAX_CELL_NODES];
+        let nn = c.kind.n_nodes();
+        c.kind.eval_n(xi, &mut n[..nn]);
+        let z: f64 = c
+            .nodes
+            .iter()
+            .zip(&n[..nn])
+            .map(|(&k, ni)| ni * self.mesh.nodes[k][1])
+            .sum();
+        s0.at(z, gamma)
+    }
+
     /// [`Field::stress`] at `xi` of `cell` as a trigonometric polynomial
     /// in theta: the coefficients of `1, cos t, sin t, ..., cos Mt, sin Mt`
     /// (at least `2 m_max + 1`; more when a harmonic above `m_max` is
@@ -261,20 +268,8 @@ impl Field<'_> {
         let mut out = vec![[0.0; 6]; 2 * m_max + 1];
         self.add_coefficients(self.u, cell, xi, &mut out);
         if let Some(init) = &self.initial {
-            let c = &self.mesh.cells[cell];
-            if let Some((s0, gamma)) = init.stress[c.body] {
-                let mut n = [0.0; axijoint_mesh::shapes::MAX_CELL_NODES];
-                let nn = c.kind.n_nodes();
-                c.kind.eval_n(xi, &mut n[..nn]);
-                let z: f64 = c
-                    .nodes
-                    .iter()
-                    .zip(&n[..nn])
-                    .map(|(&k, ni)| ni * self.mesh.nodes[k][1])
-                    .sum();
-                for (o, v) in out[0].iter_mut().zip(s0.at(z, gamma)) {
-                    *o += v;
-                }
+            for (o, v) in out[0].iter_mut().zip(self.sigma0(init, cell, xi)) {
+                *o += v;
             }
             if let Some(u0) = init.u {
                 self.add_coefficients(u0, cell, xi, &mut out);

@@ -20,7 +20,7 @@
 //! whose material gives one (the mean of both faces when both do), or the
 //! joint's `initial_traction` from the scene.
 
-use crate::elements::{add_traction_forces, joint_points, stress_forces};
+use crate::elements::{add_traction_forces, stress_forces};
 use crate::linear::Model;
 use crate::loads::gravity_load;
 use crate::scene::{InitialStress, Scene, SceneError};
@@ -97,42 +97,42 @@ pub fn initial_load(scene: &Scene, model: &Model) -> Result<InitialLoad, SceneEr
         }
     }
     // Joint tractions and their nodal forces.
-    let mut traction = Vec::new();
+    let points = crate::iteration::joint_point_infos(model);
+    let mut traction = Vec::with_capacity(points.len());
     let mut joints = vec![0.0; 3 * n];
     let mut je = [0.0; 18];
-    for (j, joint) in mesh.joints.iter().enumerate() {
-        let given = scene.joints.get(&joint.name).and_then(|c| c.initial_traction);
-        let rule = model.joints[j].rule;
-        for el in &joint.elements {
-            let bottom: Vec<[f64; 2]> = el.bottom.iter().map(|&k| mesh.nodes[k]).collect();
-            let sides: Vec<(InitialStress, f64)> = [el.bottom_cell, el.top_cell]
-                .iter()
-                .filter_map(|&c| bodies[mesh.cells[c].body])
-                .filter(|(s, _)| s.gives_traction())
-                .collect();
-            let nodes: Vec<usize> = el.bottom.iter().chain(&el.top).copied().collect();
-            for point in joint_points(el.kind, &bottom, rule) {
-                let t = given.unwrap_or_else(|| {
-                    let mut t = [0.0; 3];
-                    for (s0, gamma) in &sides {
-                        let ti = on_axes(s0.at(point.position[1], *gamma), point.tangent);
-                        for c in 0..3 {
-                            t[c] += ti[c] / sides.len() as f64;
-                        }
-                    }
-                    t
-                });
-                let je = &mut je[..3 * nodes.len()];
-                je.fill(0.0);
-                add_traction_forces(&point, t, crate::elements::c_m(0), je);
-                for (a, &k) in nodes.iter().enumerate() {
+    for info in &points {
+        let joint = &mesh.joints[info.joint];
+        let el = &joint.elements[info.element];
+        let point = &info.point;
+        let t = scene
+            .joints
+            .get(&joint.name)
+            .and_then(|c| c.initial_traction)
+            .unwrap_or_else(|| {
+                let sides: Vec<(InitialStress, f64)> = [el.bottom_cell, el.top_cell]
+                    .iter()
+                    .filter_map(|&c| bodies[mesh.cells[c].body])
+                    .filter(|(s, _)| s.gives_traction())
+                    .collect();
+                let mut t = [0.0; 3];
+                for (s0, gamma) in &sides {
+                    let ti = on_axes(s0.at(point.position[1], *gamma), point.tangent);
                     for c in 0..3 {
-                        joints[3 * k + c] += je[3 * a + c];
+                        t[c] += ti[c] / sides.len() as f64;
                     }
                 }
-                traction.push(t);
+                t
+            });
+        let je = &mut je[..3 * info.nodes.len()];
+        je.fill(0.0);
+        add_traction_forces(point, t, crate::elements::c_m(0), je);
+        for (a, &k) in info.nodes.iter().enumerate() {
+            for c in 0..3 {
+                joints[3 * k + c] += je[3 * a + c];
             }
         }
+        traction.push(t);
     }
     let load: Vec<f64> = (0..3 * n).map(|i| weight[i] - stress[i] - joints[i]).collect();
     let balance = balance(model, &load, &weight, &stress);
