@@ -115,6 +115,35 @@ fn shear_return(mc: &MohrCoulomb, t: [f64; 3]) -> ([f64; 3], JointState) {
     }
 }
 
+/// The admissible traction of the law's piece `state` at trial traction
+/// `t`, extended beyond where the law picks that piece: stick `t`, open 0,
+/// slip the shear scaled to `tau_y` (resultant: along `t_s`, kept where
+/// `t_s = 0`; components: clamped). The Newton predictor linearizes this
+/// at the states of the last converged step.
+pub fn admissible_piece(law: &JointLaw, t: [f64; 3], state: JointState) -> [f64; 3] {
+    let JointLaw::MohrCoulomb(mc) = law else {
+        return t;
+    };
+    match state {
+        JointState::Stick => t,
+        JointState::Open => [0.0; 3],
+        JointState::Slip => {
+            let tau_y = (mc.cohesion - t[1] * mc.tan_phi()).max(0.0);
+            match mc.shear_check {
+                ShearCheck::Resultant => {
+                    let tau = t[0].hypot(t[2]);
+                    if tau <= 0.0 {
+                        return t;
+                    }
+                    let f = tau_y / tau;
+                    [t[0] * f, t[1], t[2] * f]
+                }
+                ShearCheck::Components => shear_return(mc, t).0,
+            }
+        }
+    }
+}
+
 /// The state a (point, section) pair carries from one converged load step
 /// to the next under the history law.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]

@@ -9,6 +9,7 @@
 //! | test | claim | tolerance |
 //! |---|---|---|
 //! | J v | the analytic `J v` equals a central difference of `Psi` where no point switches state | 1e-6 relative |
+//! | J v, traction form | the same for the residual of the traction form (stiff joints, k_eta h / E = 100 and 1e5) | 1e-6 relative |
 //! | Scene P | Newton reaches epsilon 1e-6 on table1, noslip, frictionless; amplitudes agree with Anderson's | 1e-4 relative (below) |
 //! | sweeps | back-substitution sweeps of paper, Anderson, Newton (printed; Newton's asserted below the paper's) | - |
 //! | torsion | beyond capacity: `NoEquilibrium` naming the joint within a bounded number of sweeps; near capacity converges | <= 60 sweeps |
@@ -137,6 +138,73 @@ fn jacobian_vector_product_matches_a_finite_difference_of_psi() {
         // Psi' has a non-trivial part: J v is not just -v.
         let jv_plus_v: Vec<f64> = jv.iter().zip(&v).map(|(a, b)| a + b).collect();
         assert!(norm(&jv_plus_v) > 1e-3 * norm(&v));
+    }
+}
+
+/// The traction form (Newton's unknowns where a joint is assembled softer
+/// than its law): its analytic `J v` against the central difference of its
+/// residual `F(tau) = t - P(t + (k_a / k)(t_trial - t))`, on Scene P with
+/// the joint's springs scaled to k_eta h / E = 100 and 1e5 (assembled at
+/// k_a = E / h), at the tenth plain iterate `tau <- tau + F(tau)` from 0
+/// (open, slip and stick points present), where no point switches state.
+#[test]
+fn traction_form_jacobian_matches_a_finite_difference() {
+    for kh in [100.0, 1e5] {
+        let mut sc = scene_p("pile_footing.json", SolverMethod::Newton);
+        let e = sc.materials["pile"].e;
+        let j = sc.joints.get_mut("pile_side").expect("joint");
+        let f = kh * e / 0.125 / j.k_eta;
+        (j.k_xi, j.k_eta, j.k_theta) = (f * j.k_xi, f * j.k_eta, f * j.k_theta);
+        let lin = solve_linear(&sc, None, true).expect("linear run");
+        let softened = lin.model.joints.iter().any(|j| j.assembled != j.springs);
+        assert!(softened, "k h / E = {kh}: the joint is assembled as it is");
+        let laws = laws(&sc, &lin.model.mesh);
+        let sections = scene_sections(&sc, &lin.loads).expect("sections");
+        let fp = FixedPoint::new(&lin.model, &lin.factors, &lin.loads, &laws, &sections).expect("setup");
+        let mut tau = vec![0.0; fp.traction_len()];
+        for _ in 0..10 {
+            let (r, _) = fp.traction_residual(&tau);
+            tau.iter_mut().zip(&r).for_each(|(t, ri)| *t += ri);
+        }
+        let (_, states) = fp.traction_residual(&tau);
+        let count = |k: JointState| states.iter().filter(|&&s| s == k).count();
+        let (open, slip, stick) = (
+            count(JointState::Open),
+            count(JointState::Slip),
+            count(JointState::Stick),
+        );
+        assert!(
+            open > 0 && slip > 0 && stick > 0,
+            "{kh}: open {open}, slip {slip}, stick {stick}"
+        );
+        let v = noise(tau.len(), 11);
+        let jv = fp.traction_jacobian_vector(&tau, &v);
+        let mut h = 1e-5 * norm(&tau) / norm(&v);
+        let (plus, minus) = loop {
+            let tp: Vec<f64> = tau.iter().zip(&v).map(|(a, b)| a + h * b).collect();
+            let tm: Vec<f64> = tau.iter().zip(&v).map(|(a, b)| a - h * b).collect();
+            let (p, sp) = fp.traction_residual(&tp);
+            let (m, sm) = fp.traction_residual(&tm);
+            if sp == states && sm == states {
+                break (p, m);
+            }
+            h *= 0.25;
+            assert!(
+                h > 1e-12 * norm(&tau) / norm(&v),
+                "{kh}: a point sits on a switch"
+            );
+        };
+        let fd: Vec<f64> = plus
+            .iter()
+            .zip(&minus)
+            .map(|(p, m)| (p - m) / (2.0 * h))
+            .collect();
+        let err: Vec<f64> = jv.iter().zip(&fd).map(|(a, b)| a - b).collect();
+        let rel = norm(&err) / norm(&jv);
+        println!(
+            "traction form, k h / E = {kh}: {open} open, {slip} slip, {stick} stick; |J v - FD| / |J v| = {rel:.2e}"
+        );
+        assert!(rel < 1e-6, "k h / E = {kh}: J v vs finite difference {rel:.2e}");
     }
 }
 

@@ -140,7 +140,7 @@ pub(super) fn fixed_point(
             }
         }
         if nothing_released || ((it > 1 || warm) && ratio < settings.epsilon) {
-            return Ok(Converged { x, ev, history });
+            return Ok(Converged::new(x.clone(), x, ev, history));
         }
         if it > 1 {
             let stalled = if ratio < best * 0.999 {

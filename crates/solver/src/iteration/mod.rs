@@ -33,6 +33,7 @@ mod precondition;
 mod release;
 mod setup;
 mod steps;
+mod traction;
 
 pub use setup::{FixedPoint, OBSERVED_UP_TO};
 pub use steps::{
@@ -232,7 +233,7 @@ pub enum IterationError {
     },
     /// The iteration stalled on a joint much stiffer than its elements:
     /// whether an equilibrium exists cannot be told.
-    #[error("not converged: {reason}; joint '{joint}' is much stiffer than the elements along it (k h / E = {stiffness:.1}): the paper and anderson methods keep the elastic joint stiffness in K_m, so a released traction comes back through the same stiff spring and the iteration crawls; newton (the default, with load steps) converged up to k h / E = 1000 on the measured cases (docs/stability.md). This does not show that the load exceeds what the joint can carry; use newton with load steps, soften the joint (k h / E of about 1 suffices for every method), or refine the mesh along it (iteration {iteration})")]
+    #[error("not converged: {reason}; joint '{joint}' is much stiffer than the elements along it (k h / E = {stiffness:.1}): the paper and anderson methods keep the elastic joint stiffness in K_m, so a released traction comes back through the same stiff spring and the iteration crawls; newton (the default, with load steps) iterates on the released tractions there and converged up to k h / E = 1e6 on the measured cases with the default sections (docs/stability.md), slower where the interface has more than 6000 unknowns over the harmonics. This does not show that the load exceeds what the joint can carry; use newton with load steps and the default sections, soften the joint (k h / E of about 1 suffices for every method), or refine the mesh along it (iteration {iteration})")]
     StiffJoint {
         /// The joint with the largest residual.
         joint: String,
@@ -324,10 +325,15 @@ impl IterationError {
 
 /// Where an iteration starts: the released section forces `x0` (zero for
 /// a one-shot run, the last converged step's in a stepped one) and the
-/// reference `Psi_0` of the residual ratio (`None`: the first residual).
+/// unknowns of Newton's formulation there (`y0`, from the same run), the
+/// reference `Psi_0` of the residual ratio (`None`: the first residual),
+/// and the joint states Newton's first step linearizes at (`None`: those
+/// of the law at the start).
 pub(super) struct Start {
     x0: Vec<f64>,
+    y0: Option<Vec<f64>>,
     psi_ref: Option<f64>,
+    predictor: Option<Vec<JointState>>,
 }
 
 impl Start {
@@ -335,7 +341,9 @@ impl Start {
     fn zero(setup: &Setup) -> Start {
         Start {
             x0: vec![0.0; setup.len()],
+            y0: None,
             psi_ref: None,
+            predictor: None,
         }
     }
 }
@@ -354,11 +362,20 @@ impl Failure {
     }
 }
 
-/// A converged iteration: the released forces, their evaluation, the history.
+/// A converged iteration: the released forces, the unknowns of the
+/// method's formulation (`y`, the same as x but for Newton's traction
+/// form), their evaluation, the history.
 pub(super) struct Converged {
     x: Vec<f64>,
+    y: Vec<f64>,
     ev: release::Eval,
     history: Vec<IterationRecord>,
+}
+
+impl Converged {
+    fn new(x: Vec<f64>, y: Vec<f64>, ev: release::Eval, history: Vec<IterationRecord>) -> Self {
+        Converged { x, y, ev, history }
+    }
 }
 
 /// Runs the iteration. `factors` must hold every harmonic of `loads`;

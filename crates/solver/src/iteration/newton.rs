@@ -1,11 +1,16 @@
-//! Semi-smooth Newton-Krylov on `R(x) = Psi(x) - x = 0` ([`newton`]) and
-//! its Krylov solver ([`Krylov`]).
+//! Semi-smooth Newton-Krylov ([`newton`]) on one of two formulations
+//! ([`Formulation`]): the released section forces x, `R(x) = Psi(x) - x = 0`
+//! ([`Nodal`]), or, where a joint is assembled softer than its law
+//! (`k h / E > 1`), the released tractions per (section, point)
+//! ([`Traction`](super::traction::Traction)); and its Krylov solver
+//! ([`Krylov`]).
 
-use super::diagnosis::{joint_stiffness_ratio, no_equilibrium, not_converged, unresolved};
-use super::precondition::BlockPreconditioner;
-use super::release::Tangent;
+use super::diagnosis::{no_equilibrium, not_converged, unresolved};
+use super::release::{Eval, Tangent};
 use super::setup::{JointAmplitudes, Setup};
+use super::traction::Traction;
 use super::{axpy, dot, norm, Converged, Failure, IterationRecord, IterationSettings, Start};
+use crate::joint_law::JointState;
 use std::collections::VecDeque;
 use std::time::Instant;
 
@@ -25,22 +30,115 @@ const NEWTON_ETA_MAX: f64 = 0.3;
 /// only creeps along the switching surface).
 const NEWTON_HALVINGS: u32 = 5;
 
-/// Halvings with a stiff joint (`k h / E` above [`PRECONDITION_ABOVE`]):
-/// the law's kinks lie closer together in x there. Measured on Scene P
-/// with k_eta h / E = 12.5 and 100: 30 halvings fail the one-shot runs,
-/// 10 converge them and the stepped runs.
-const NEWTON_HALVINGS_STIFF: u32 = 10;
+/// Halvings with a joint stiffer than its elements (the traction form):
+/// the law's kinks lie closer together there. Measured on Scene P with
+/// k_eta h / E = 12.5 and 100: 30 halvings fail the one-shot runs, 10
+/// converge them and the stepped runs.
+pub(super) const NEWTON_HALVINGS_STIFF: u32 = 10;
 
-/// `k h / E` of a joint above which Newton's Krylov solve is preconditioned
-/// by [`BlockPreconditioner`] (below, the identity is as good: measured on
-/// Scene P at k_eta h / E = 0.125 to 1) and the line search goes further.
-const PRECONDITION_ABOVE: f64 = 2.0;
+/// What Newton iterates on: unknowns y, the section displacements
+/// `u_s = u_F + W G y` (G: the section forces of y, one sweep), the residual
+/// `R(y)` at given displacements (no sweep) and its generalized Jacobian
+/// `J = dR/dy` at the states of the last [`Formulation::linearize`].
+pub(super) trait Formulation {
+    /// The run's data.
+    fn setup(&self) -> &Setup<'_>;
+    /// Number of unknowns.
+    fn len(&self) -> usize;
+    /// `x = G y`, the released section forces of y.
+    fn forces(&self, y: &[f64], x: &mut [f64]);
+    /// `R(y)` at the displacements `ev.u_s` (no sweep), the law choosing
+    /// each point's state, or the law's piece of `pieces`; fills `ev`.
+    fn residual(&self, y: &[f64], ev: &mut Eval, pieces: Option<&[JointState]>, res: &mut [f64]);
+    /// The section-force residual (`G R`) of a residual, for the ratio and
+    /// the diagnosis.
+    fn section_residual(&self, res: &[f64], out: &mut [f64]);
+    /// The joint tangent at `ev` (the evaluation at y), and the
+    /// preconditioner's factors.
+    fn linearize(&mut self, y: &[f64], ev: &Eval);
+    /// `out = J z` given `wz = W G z` (no sweep).
+    fn apply_j(&self, z: &[f64], wz: &[f64], out: &mut [f64]);
+    /// `out = M r`, M an approximate inverse of J (no sweep); `false` when
+    /// there is none (`out` untouched).
+    fn precondition(&mut self, r: &[f64], released: &mut JointAmplitudes, out: &mut [f64]) -> bool;
+    /// Halvings of the line search.
+    fn halvings(&self) -> u32;
+    /// Whether a warm start's first step linearizes at the predictor states.
+    fn predicts(&self) -> bool;
+}
 
-/// Pairs `(z, W z)` the Newton iteration has paid a sweep for, kept across
-/// its steps (W does not depend on the joint states), and the scratch of
-/// the Krylov solve. Memory: `3 (KEEP + INNER)` vectors of x's length.
+/// Newton on the released section forces: `R(x) = Psi(x) - x`,
+/// `J = D W - I` (D the release tangent,
+/// [`release_tangent`](super::release::release_tangent)), unpreconditioned:
+/// every joint is assembled as it is (`k h / E <= 1`), where the identity
+/// is as good as the harmonic-block preconditioner (measured on Scene P at
+/// k_eta h / E = 0.125 to 1).
+pub(super) struct Nodal<'s, 'a> {
+    setup: &'s Setup<'a>,
+    tangents: Vec<Tangent>,
+}
+
+impl<'s, 'a> Nodal<'s, 'a> {
+    pub(super) fn new(setup: &'s Setup<'a>) -> Self {
+        Nodal {
+            setup,
+            tangents: vec![None; setup.n_pairs()],
+        }
+    }
+}
+
+impl Formulation for Nodal<'_, '_> {
+    fn setup(&self) -> &Setup<'_> {
+        self.setup
+    }
+
+    fn len(&self) -> usize {
+        self.setup.len()
+    }
+
+    fn forces(&self, y: &[f64], x: &mut [f64]) {
+        x.copy_from_slice(y);
+    }
+
+    fn residual(&self, y: &[f64], ev: &mut Eval, pieces: Option<&[JointState]>, res: &mut [f64]) {
+        self.setup.release_pieces(ev, pieces);
+        for ((r, g), x) in res.iter_mut().zip(&ev.g).zip(y) {
+            *r = g - x;
+        }
+    }
+
+    fn section_residual(&self, res: &[f64], out: &mut [f64]) {
+        out.copy_from_slice(res);
+    }
+
+    fn linearize(&mut self, _y: &[f64], ev: &Eval) {
+        self.setup.tangents(ev, &mut self.tangents);
+    }
+
+    fn apply_j(&self, z: &[f64], wz: &[f64], out: &mut [f64]) {
+        self.setup.apply_tangent(&self.tangents, wz, out);
+        axpy(-1.0, z, out);
+    }
+
+    fn precondition(&mut self, _r: &[f64], _released: &mut JointAmplitudes, _out: &mut [f64]) -> bool {
+        false
+    }
+
+    fn halvings(&self) -> u32 {
+        NEWTON_HALVINGS
+    }
+
+    fn predicts(&self) -> bool {
+        false
+    }
+}
+
+/// Pairs `(z, W G z)` the Newton iteration has paid a sweep for, kept
+/// across its steps (W does not depend on the joint states), and the
+/// scratch of the Krylov solve. Memory: `3 (KEEP + INNER)` vectors of y's
+/// length.
 struct Krylov {
-    /// Directions z (oldest first) and their images `W z`.
+    /// Directions z (oldest first) and their images `W G z`.
     z: VecDeque<Vec<f64>>,
     w: VecDeque<Vec<f64>>,
     /// Orthonormal `J p` of this step and their raw coefficients
@@ -49,8 +147,6 @@ struct Krylov {
     t: Vec<Vec<f64>>,
     /// Buffers to reuse.
     spare: Vec<Vec<f64>>,
-    /// The harmonic-block preconditioner (stiff joints) and its scratch.
-    pre: Option<(BlockPreconditioner, Vec<f64>)>,
 }
 
 impl Krylov {
@@ -66,7 +162,6 @@ impl Krylov {
             q: Vec::new(),
             t: Vec::new(),
             spare: Vec::new(),
-            pre: None,
         }
     }
 
@@ -84,21 +179,14 @@ impl Krylov {
     }
 
     /// Adds raw direction `i` to the orthonormal set of this step:
-    /// `q = D w_i - z_i` (no sweep) orthogonalized (modified Gram-Schmidt,
-    /// twice) against the previous q; returns whether it was independent.
-    fn orthogonalize(
-        &mut self,
-        setup: &Setup,
-        tangents: &[Tangent],
-        i: usize,
-        r: &mut [f64],
-        c: &mut [f64],
-    ) -> bool {
+    /// `q = J z_i` from its `W G z_i` (no sweep) orthogonalized (modified
+    /// Gram-Schmidt, twice) against the previous q; returns whether it was
+    /// independent.
+    fn orthogonalize(&mut self, form: &dyn Formulation, i: usize, r: &mut [f64], c: &mut [f64]) -> bool {
         let n = r.len();
         let width = Self::KEEP + Self::INNER + 1;
         let mut q = self.buffer(n);
-        setup.apply_tangent(tangents, &self.w[i], &mut q);
-        axpy(-1.0, &self.z[i], &mut q);
+        form.apply_j(&self.z[i], &self.w[i], &mut q);
         let mut t = self.buffer(width);
         t[i] = 1.0;
         let before = norm(&q);
@@ -126,22 +214,21 @@ impl Krylov {
         true
     }
 
-    /// Solves `J delta = -R` (`J = D W - I`, D from `tangents`) to
-    /// `|R + J delta| <= eta |R|` by GCR (minimal residual; in exact
-    /// arithmetic GMRES) over the kept directions (free: their `W z` is
-    /// known) and at most [`Krylov::INNER`] new ones `z = M r / |M r|` (one
-    /// sweep each, at most `budget`; M the block preconditioner when there
-    /// is one, else I: flexible GCR). Writes `delta` and `W delta`; returns
-    /// the sweeps paid.
+    /// Solves `J delta = -R` to `|R + J delta| <= eta |R|` by GCR (minimal
+    /// residual; in exact arithmetic GMRES) over the kept directions (free:
+    /// their `W G z` is known) and at most [`Krylov::INNER`] new ones
+    /// `z = M r / |M r|` (one sweep each, at most `budget`; M the
+    /// formulation's preconditioner when it has one, else I: flexible GCR).
+    /// Writes `delta` and `W G delta`; returns the sweeps paid.
     #[allow(clippy::too_many_arguments)]
     fn solve(
         &mut self,
-        setup: &Setup,
-        tangents: &[Tangent],
+        form: &mut dyn Formulation,
         residual: &[f64],
         eta: f64,
         budget: u32,
         released: &mut JointAmplitudes,
+        x: &mut [f64],
         delta: &mut [f64],
         w_delta: &mut [f64],
     ) -> u32 {
@@ -161,14 +248,13 @@ impl Krylov {
         let target = eta * norm(residual);
         let mut c = vec![0.0; Self::KEEP + Self::INNER + 1];
         for i in 0..self.z.len() {
-            self.orthogonalize(setup, tangents, i, &mut r, &mut c);
+            self.orthogonalize(form, i, &mut r, &mut c);
         }
         let mut sweeps = 0;
         while norm(&r) > target && sweeps < Self::INNER.min(budget as usize) as u32 {
             let mut z = self.buffer(n);
-            match &mut self.pre {
-                Some((pre, u_s)) => pre.apply(setup, tangents, &r, released, u_s, &mut z),
-                None => z.copy_from_slice(&r),
+            if !form.precondition(&r, released, &mut z) {
+                z.copy_from_slice(&r);
             }
             let nz = norm(&z);
             if !(nz > 0.0 && nz.is_finite()) {
@@ -178,11 +264,12 @@ impl Krylov {
             for zi in z.iter_mut() {
                 *zi /= nz;
             }
-            let mut w = self.buffer(n);
-            setup.apply_w(&z, released, &mut w);
+            let mut w = self.buffer(w_delta.len());
+            form.forces(&z, x);
+            form.setup().apply_w(x, released, &mut w);
             sweeps += 1;
             self.push(z, w);
-            if !self.orthogonalize(setup, tangents, self.z.len() - 1, &mut r, &mut c) {
+            if !self.orthogonalize(form, self.z.len() - 1, &mut r, &mut c) {
                 break;
             }
         }
@@ -199,34 +286,38 @@ impl Krylov {
     }
 }
 
-/// Semi-smooth Newton-Krylov on `R(x) = Psi(x) - x = 0`.
+/// Semi-smooth Newton-Krylov on `R(y) = 0` of the formulation the run
+/// needs: [`Traction`] where a joint is assembled softer than its law, else
+/// [`Nodal`].
 ///
-/// With `u_s(x) = u_F + W x` the section displacements (W = S K^-1 A, linear
-/// and the same for every joint state) and the release acting point by point,
-/// `Psi(x) = g(u_F + W x)` and the generalized Jacobian is
-/// `J = D(x) W - I`, D the joint tangent per (section, point) at the states
-/// of x ([`release_tangent`](super::release::release_tangent): open releases the whole trial-traction
-/// increment, stick nothing, slip the tangent of the radial return). It is
-/// the coupled tangent stiffness `K - A D S` right-preconditioned by the
-/// elastic block-diagonal K: `(K - A D S) K^-1 = I - A (D S K^-1)` and
-/// `-J = I - (D S K^-1) A` have the same eigenvalues apart from 1s:
-/// the joint tangent couples the harmonics, only the elastic factors are
-/// ever used.
+/// With `u_s(y) = u_F + W G y` the section displacements (W = S K^-1 A,
+/// linear and the same for every joint state) and the law acting point by
+/// point, the generalized Jacobian of the nodal form is `J = D(x) W - I`, D
+/// the joint tangent per (section, point) at the states of x
+/// ([`release_tangent`](super::release::release_tangent): open releases the
+/// whole trial-traction increment, stick nothing, slip the tangent of the
+/// radial return). It is the coupled tangent stiffness `K - A D S`
+/// right-preconditioned by the elastic block-diagonal K:
+/// `(K - A D S) K^-1 = I - A (D S K^-1)` and `-J = I - (D S K^-1) A` have
+/// the same eigenvalues apart from 1s: the joint tangent couples the
+/// harmonics, only the elastic factors are ever used.
 ///
-/// Each step: (1) solve `J delta = -R` by GCR to the Eisenstat-Walker
-/// tolerance eta (choice 2, `eta_k = 0.9 (|R_k| / |R_{k-1}|)^2`, safeguarded,
-/// in `[1e-3, 0.3]`, no tighter than the target needs); every `W z` the
-/// solve pays a sweep for is kept, and the kept pairs span the next step's
-/// first directions at no cost (`J z = D (W z) - z`); (2) backtrack
-/// `x + lambda delta` (lambda = 1, 1/2, ..., 1/32) until `|R|_2` decreases
-/// by the Armijo factor `1 - 1e-4 lambda`: since
-/// `u_s(x + lambda delta) = u_s(x) + lambda W delta` with `W delta` known,
-/// these trial evaluations of `Psi` cost no sweep; (3) if none decreases
-/// `|R|` (a joint point switches state just ahead: the law is only
-/// piecewise smooth, and discontinuous where a cohesive joint opens), take
-/// the plain step `x + R` with a true evaluation (one sweep; its pair
-/// `(R, W R)` is kept too). A ratio below epsilon is confirmed by a true
-/// evaluation (one sweep), which also gives the displacement amplitudes.
+/// Each step: (0) the first step of a warm start linearizes at the states
+/// of `from.predictor` (the last converged step's: the tangent predictor of
+/// incremental codes) and is taken whole; (1) solve `J delta = -R` by GCR
+/// to the Eisenstat-Walker tolerance eta (choice 2,
+/// `eta_k = 0.9 (|R_k| / |R_{k-1}|)^2`, safeguarded, in `[1e-3, 0.3]`, no
+/// tighter than the target needs); every `W G z` the solve pays a sweep
+/// for is kept, and the kept pairs span the next step's first directions
+/// at no cost; (2) backtrack `y + lambda delta` (lambda = 1, 1/2, ...,
+/// 1/32) until `|R|_2` decreases by the Armijo factor `1 - 1e-4 lambda`:
+/// since `u_s(y + lambda delta) = u_s(y) + lambda W G delta` with
+/// `W G delta` known, these trial evaluations cost no sweep; (3) if none
+/// decreases `|R|` (a joint point switches state just ahead: the law is
+/// only piecewise smooth, and discontinuous where a cohesive joint opens),
+/// take the plain step `y + R` with a true evaluation (one sweep; its pair
+/// is kept too). A ratio below epsilon is confirmed by a true evaluation
+/// (one sweep), which also gives the displacement amplitudes.
 ///
 /// No equilibrium: when the load exceeds what the joints carry, the points
 /// along the unbalanced force all slip or open, the tangent releases the
@@ -242,27 +333,56 @@ pub(super) fn newton(
     from: Start,
     progress: &mut dyn FnMut(&IterationRecord),
 ) -> Result<Converged, Box<Failure>> {
+    if setup.softened() {
+        let mut form = Traction::new(setup);
+        let y0 = form.start(&from);
+        solve(setup, &mut form, y0, settings, from, progress)
+    } else {
+        let y0 = from.x0.clone();
+        solve(setup, &mut Nodal::new(setup), y0, settings, from, progress)
+    }
+}
+
+/// [`newton`] on formulation `form` from `y`.
+fn solve(
+    setup: &Setup,
+    form: &mut dyn Formulation,
+    mut y: Vec<f64>,
+    settings: &IterationSettings,
+    from: Start,
+    progress: &mut dyn FnMut(&IterationRecord),
+) -> Result<Converged, Box<Failure>> {
     let start = Instant::now();
-    let nx = setup.len();
+    let (ny, nx) = (form.len(), setup.len());
     let mut released = setup.zero_loads();
     let mut acc = setup.new_eval();
     let mut trial = setup.new_eval();
-    let mut x = from.x0;
-    let mut x_trial = vec![0.0; nx];
-    let mut delta = vec![0.0; nx];
+    let mut y_trial = vec![0.0; ny];
+    let mut delta = vec![0.0; ny];
     let mut w_delta = vec![0.0; nx];
-    let mut tangents: Vec<Tangent> = vec![None; setup.n_pairs()];
+    let mut x = vec![0.0; nx];
+    let mut rx = vec![0.0; nx];
     let mut krylov = Krylov::new();
-    let stiff =
-        (0..setup.model.mesh.joints.len()).any(|j| joint_stiffness_ratio(setup, j) > PRECONDITION_ABOVE);
 
-    // The first evaluation: the elastic solve (or from a warm start).
-    setup.evaluate(&x, &mut released, &mut acc);
-    // Whether `acc` is a true evaluation at x (not a linearized trial).
+    // A true evaluation at y (one sweep); `x` and `rx` hold G y and G R.
+    let evaluate = |form: &dyn Formulation,
+                    y: &[f64],
+                    released: &mut JointAmplitudes,
+                    ev: &mut Eval,
+                    res: &mut [f64],
+                    x: &mut [f64]| {
+        form.forces(y, x);
+        form.setup().displace(x, released, &mut ev.u_s);
+        form.residual(y, ev, None, res);
+    };
+    let mut res = vec![0.0; ny];
+    evaluate(form, &y, &mut released, &mut acc, &mut res, &mut x);
+    // Whether `acc` is a true evaluation at y (not a linearized trial).
     let mut evaluated;
-    let mut res: Vec<f64> = acc.g.iter().zip(&x).map(|(a, b)| a - b).collect();
-    let mut res_trial = vec![0.0; nx];
-    let psi_first = setup.section_max(&res);
+    let mut res_trial = vec![0.0; ny];
+    let mut rhs = vec![0.0; ny];
+    form.section_residual(&res, &mut rx);
+    let psi_first = setup.section_max(&rx);
     let psi0 = from.psi_ref.unwrap_or(psi_first);
     let nothing_released = psi0 <= 1e-14 * setup.load_scale().max(f64::MIN_POSITIVE);
     let first_ratio = if nothing_released { 0.0 } else { psi_first / psi0 };
@@ -271,13 +391,13 @@ pub(super) fn newton(
     let mut history = vec![record];
     if !psi_first.is_finite() {
         return Err(Failure::new(
-            no_equilibrium(setup, &res, "the solution is not finite", record, history),
+            no_equilibrium(setup, &rx, "the solution is not finite", record, history),
             x,
             acc,
         ));
     }
     if nothing_released || (from.psi_ref.is_some() && first_ratio < settings.epsilon) {
-        return Ok(Converged { x, ev: acc, history });
+        return Ok(Converged::new(x, y, acc, history));
     }
 
     let mut total = 1u32;
@@ -288,13 +408,18 @@ pub(super) fn newton(
     // Whether each of the last steps fell back to the plain step.
     let mut fallbacks = VecDeque::new();
     for step in 2..=settings.max_iterations {
-        // (1) The Newton direction.
-        setup.tangents(&acc, &mut tangents);
-        if stiff {
-            let (pre, _) = krylov
-                .pre
-                .get_or_insert_with(|| (BlockPreconditioner::new(setup), vec![0.0; nx]));
-            pre.update(setup, &tangents);
+        // (0) The predictor, or (1) the Newton direction at y.
+        let predicted = step == 2 && from.predictor.is_some() && form.predicts();
+        match from.predictor.as_deref().filter(|_| predicted) {
+            Some(pieces) => {
+                let mut at = acc.clone();
+                form.residual(&y, &mut at, Some(pieces), &mut rhs);
+                form.linearize(&y, &at);
+            }
+            None => {
+                rhs.copy_from_slice(&res);
+                form.linearize(&y, &acc);
+            }
         }
         if step > 2 {
             let ew = 0.9 * (r_norm / r_prev).powi(2);
@@ -302,14 +427,17 @@ pub(super) fn newton(
             eta = if safe > 0.1 { ew.max(safe) } else { ew };
         }
         eta = eta.clamp(NEWTON_ETA_MIN, NEWTON_ETA_MAX).max(eta_floor / r_norm);
+        if predicted {
+            eta = NEWTON_ETA_MIN;
+        }
         let budget = settings.max_iterations.saturating_sub(total + 1);
         let mut sweeps = krylov.solve(
-            setup,
-            &tangents,
-            &res,
+            form,
+            &rhs,
             eta,
             budget,
             &mut released,
+            &mut x,
             &mut delta,
             &mut w_delta,
         );
@@ -317,22 +445,16 @@ pub(super) fn newton(
         // (2) Backtracking on |R|, the trial evaluations without a sweep.
         let mut lambda = 1.0;
         let mut accepted = false;
-        let halvings = if stiff {
-            NEWTON_HALVINGS_STIFF
-        } else {
-            NEWTON_HALVINGS
-        };
-        for _ in 0..=halvings {
-            for i in 0..nx {
-                x_trial[i] = x[i] + lambda * delta[i];
-                trial.u_s[i] = acc.u_s[i] + lambda * w_delta[i];
+        for _ in 0..=form.halvings() {
+            for ((t, a), d) in y_trial.iter_mut().zip(&y).zip(&delta) {
+                *t = a + lambda * d;
+            }
+            for ((t, a), w) in trial.u_s.iter_mut().zip(&acc.u_s).zip(&w_delta) {
+                *t = a + lambda * w;
             }
             trial.broken.copy_from_slice(&acc.broken);
-            setup.release_all(&mut trial);
-            for i in 0..nx {
-                res_trial[i] = trial.g[i] - x_trial[i];
-            }
-            if norm(&res_trial) <= (1.0 - 1e-4 * lambda) * r_norm {
+            form.residual(&y_trial, &mut trial, None, &mut res_trial);
+            if predicted || norm(&res_trial) <= (1.0 - 1e-4 * lambda) * r_norm {
                 accepted = true;
                 break;
             }
@@ -346,61 +468,58 @@ pub(super) fn newton(
             evaluated = false;
         } else {
             // (3) The plain step, evaluated for real; its pair is kept.
-            for i in 0..nx {
-                x_trial[i] = x[i] + res[i];
+            for i in 0..ny {
+                y_trial[i] = y[i] + res[i];
             }
             trial.broken.copy_from_slice(&acc.broken);
-            setup.evaluate(&x_trial, &mut released, &mut trial);
+            evaluate(form, &y_trial, &mut released, &mut trial, &mut res_trial, &mut x);
             evaluated = true;
             sweeps += 1;
             let mut w = krylov.buffer(nx);
             for ((wi, a), b) in w.iter_mut().zip(&trial.u_s).zip(&acc.u_s) {
                 *wi = a - b;
             }
-            let mut z = krylov.buffer(nx);
+            let mut z = krylov.buffer(ny);
             z.copy_from_slice(&res);
             krylov.push(z, w);
-            for i in 0..nx {
-                res_trial[i] = trial.g[i] - x_trial[i];
-            }
         }
         std::mem::swap(&mut acc, &mut trial);
-        std::mem::swap(&mut x, &mut x_trial);
+        std::mem::swap(&mut y, &mut y_trial);
         std::mem::swap(&mut res, &mut res_trial);
         r_prev = r_norm;
         r_norm = norm(&res);
-        let mut ratio = setup.section_max(&res) / psi0;
+        form.section_residual(&res, &mut rx);
+        let mut ratio = setup.section_max(&rx) / psi0;
         if ratio < settings.epsilon && !evaluated {
             // Confirm with a true evaluation.
-            setup.evaluate(&x, &mut released, &mut acc);
+            evaluate(form, &y, &mut released, &mut acc, &mut res, &mut x);
             evaluated = true;
             sweeps += 1;
-            for i in 0..nx {
-                res[i] = acc.g[i] - x[i];
-            }
             r_norm = norm(&res);
-            ratio = setup.section_max(&res) / psi0;
+            form.section_residual(&res, &mut rx);
+            ratio = setup.section_max(&rx) / psi0;
         }
         total += sweeps;
         let record = setup.record(step, ratio, &acc, start, sweeps);
         progress(&record);
         history.push(record);
+        form.forces(&y, &mut x);
         if !ratio.is_finite() || !r_norm.is_finite() {
             return Err(Failure::new(
-                no_equilibrium(setup, &res, "the solution is not finite", record, history),
+                no_equilibrium(setup, &rx, "the solution is not finite", record, history),
                 x,
                 acc,
             ));
         }
         if let Some(reason) = unresolved(setup, &x, psi0, settings.epsilon) {
             return Err(Failure::new(
-                no_equilibrium(setup, &res, &reason, record, history),
+                no_equilibrium(setup, &rx, &reason, record, history),
                 x,
                 acc,
             ));
         }
         if ratio < settings.epsilon && evaluated {
-            return Ok(Converged { x, ev: acc, history });
+            return Ok(Converged::new(x, y, acc, history));
         }
 
         // No equilibrium.
@@ -420,7 +539,7 @@ pub(super) fn newton(
             reason.or_else(|| (ratio > 1e6).then(|| format!("the residual grows (ratio {ratio:.3e})")));
         if let Some(reason) = reason {
             return Err(Failure::new(
-                no_equilibrium(setup, &res, &reason, record, history),
+                no_equilibrium(setup, &rx, &reason, record, history),
                 x,
                 acc,
             ));
@@ -429,9 +548,5 @@ pub(super) fn newton(
             break;
         }
     }
-    Err(Failure::new(
-        not_converged(setup, &res, settings, history),
-        x,
-        acc,
-    ))
+    Err(Failure::new(not_converged(setup, &rx, settings, history), x, acc))
 }

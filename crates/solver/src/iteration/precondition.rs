@@ -1,5 +1,6 @@
 //! The harmonic-block preconditioner of Newton's Krylov solve, for joints
-//! much stiffer than their elements.
+//! much stiffer than their elements (used by the traction form,
+//! [`super::traction`], with its tangent `D = Dd^-1 Dv k_a`).
 //!
 //! With `Z_m = [K_m^-1]` on the joint nodes (dense, formed once per run from
 //! the elastic factors: `3 n_j / 2` joint-block solves per harmonic) and
@@ -37,14 +38,22 @@ use super::release::Tangent;
 use super::setup::{JointAmplitudes, Setup};
 use crate::elements::{add_traction_forces, relative_displacement};
 use crate::fourier::Family;
+use faer::linalg::solvers::{PartialPivLu, Solve};
+use faer::Mat;
 use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
+use std::sync::Arc;
 
-/// Largest order of the coupled interface tangent factorized densely.
-pub(super) const COUPLED_MAX: usize = 2400;
+/// Largest order of the coupled interface tangent factorized densely: an
+/// LU of order 6000 takes about 2 s on 2 cores and 3 x 288 MB while it is
+/// formed. Measured on the pile in soil with k_eta h / E = 100 (order
+/// 5100): converges in 1 load step; block-diagonal, it stopped at
+/// lambda = 0 (100 sweeps per Newton step did not reach the forcing term).
+pub(super) const COUPLED_MAX: usize = 6000;
 
-/// The preconditioner's fixed data and its factors at the current tangents.
-pub(super) struct BlockPreconditioner {
+/// The preconditioner's fixed data, formed once per run
+/// ([`Setup::interface`]).
+pub(super) struct Interface {
     /// `Z_m` per harmonic index, order `3 n_j`.
     z: Vec<DMatrix<f64>>,
     /// Per point: `B` (3 x 3 n_e, relative displacement of the element's
@@ -54,11 +63,17 @@ pub(super) struct BlockPreconditioner {
     /// Groups of (harmonic index, family) solved together: one group of
     /// every pair (coupled), or one group per pair (block-diagonal).
     groups: Vec<Vec<(usize, usize)>>,
-    /// LU of `I - Z Dbar` per group (`None`: singular, then `P^-1 = Z`).
-    lu: Vec<Option<nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>>>,
 }
 
-impl BlockPreconditioner {
+/// The preconditioner: its fixed data and its factors at the current
+/// tangents.
+pub(super) struct BlockPreconditioner {
+    fixed: Arc<Interface>,
+    /// LU of `I - Z Dbar` per group (`None`: singular, then `P^-1 = Z`).
+    lu: Vec<Option<PartialPivLu<f64>>>,
+}
+
+impl Interface {
     /// Forms `Z_m` for every harmonic and the point operators.
     pub(super) fn new(setup: &Setup) -> Self {
         let n = 3 * setup.joint_nodes.len();
@@ -115,12 +130,19 @@ impl BlockPreconditioner {
         } else {
             pairs.into_iter().map(|p| vec![p]).collect()
         };
+        Interface { z, b, g, groups }
+    }
+}
+
+impl BlockPreconditioner {
+    /// The preconditioner of `setup` (its fixed data formed at the first call).
+    pub(super) fn new(setup: &Setup) -> Self {
         BlockPreconditioner {
+            fixed: setup
+                .interface
+                .get_or_init(|| Arc::new(Interface::new(setup)))
+                .clone(),
             lu: Vec::new(),
-            z,
-            b,
-            g,
-            groups,
         }
     }
 
@@ -130,7 +152,8 @@ impl BlockPreconditioner {
         let n_p = setup.points.len();
         let sections = setup.sections;
         const FAMILIES: [Family; 2] = [Family::Symmetric, Family::Antisymmetric];
-        self.lu = self
+        let fixed = &*self.fixed;
+        self.lu = fixed
             .groups
             .par_iter()
             .map(|group| {
@@ -178,7 +201,7 @@ impl BlockPreconditioner {
                     let nl = &setup.local[p];
                     for i in 0..group.len() {
                         for j in 0..group.len() {
-                            let e = &self.g[p] * c[i * group.len() + j] * &self.b[p];
+                            let e = &fixed.g[p] * c[i * group.len() + j] * &fixed.b[p];
                             for (ai, &ja) in nl.iter().enumerate() {
                                 for (bi, &jb) in nl.iter().enumerate() {
                                     for ci in 0..3 {
@@ -196,27 +219,29 @@ impl BlockPreconditioner {
                 let mut q = DMatrix::<f64>::identity(size, size);
                 for (i, &(h, _)) in group.iter().enumerate() {
                     let rows = dbar.rows(i * n, n);
-                    let zd = &self.z[h] * rows;
+                    let zd = &fixed.z[h] * rows;
                     let mut target = q.rows_mut(i * n, n);
                     target -= zd;
                 }
-                let lu = q.lu();
-                lu.is_invertible().then_some(lu)
+                drop(dbar);
+                // faer's blocked LU: nalgebra's unblocked one took most of
+                // the time of a stiff-joint run.
+                let lu = Mat::<f64>::from_fn(size, size, |r, c| q[(r, c)]).partial_piv_lu();
+                let singular = (0..size).any(|i| lu.U()[(i, i)] == 0.0);
+                (!singular).then_some(lu)
             })
             .collect();
     }
 
-    /// `out = M r = -(r + D S P^-1 A r)` at the tangents of the last
-    /// [`BlockPreconditioner::update`] (no sweep). `released` and `u_s` are
-    /// scratch.
-    pub(super) fn apply(
+    /// `u_s = S P^-1 A r`: the section displacements of the section forces
+    /// `r` through the coupled interface tangent of the last
+    /// [`BlockPreconditioner::update`] (no sweep; `released` is scratch).
+    pub(super) fn displacements(
         &self,
         setup: &Setup,
-        tangents: &[Tangent],
         r: &[f64],
         released: &mut JointAmplitudes,
         u_s: &mut [f64],
-        out: &mut [f64],
     ) {
         let n = 3 * setup.joint_nodes.len();
         setup.analyse(r, released);
@@ -225,15 +250,21 @@ impl BlockPreconditioner {
                 fams[1].fill(0.0);
             }
         }
-        for (group, lu) in self.groups.iter().zip(&self.lu) {
+        for (group, lu) in self.fixed.groups.iter().zip(&self.lu) {
             let mut y = DVector::<f64>::zeros(group.len() * n);
             for (i, &(h, f)) in group.iter().enumerate() {
-                let zv = &self.z[h] * DVector::from_column_slice(&released[h][f]);
+                let zv = &self.fixed.z[h] * DVector::from_column_slice(&released[h][f]);
                 y.rows_mut(i * n, n).copy_from(&zv);
             }
             if let Some(lu) = lu {
-                if let Some(sol) = lu.solve(&y) {
-                    y = sol;
+                let mut col = y.clone();
+                lu.solve_in_place(faer::MatMut::from_column_major_slice_mut(
+                    col.as_mut_slice(),
+                    y.len(),
+                    1,
+                ));
+                if col.iter().all(|v| v.is_finite()) {
+                    y = col;
                 }
             }
             for (i, &(h, f)) in group.iter().enumerate() {
@@ -241,9 +272,5 @@ impl BlockPreconditioner {
             }
         }
         setup.synthesize_all(released, u_s);
-        setup.apply_tangent(tangents, u_s, out);
-        for (o, ri) in out.iter_mut().zip(r) {
-            *o = -(*o + ri);
-        }
     }
 }

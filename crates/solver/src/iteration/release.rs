@@ -3,7 +3,9 @@
 
 use super::setup::Setup;
 use crate::elements::{add_traction_forces, relative_displacement, JointSprings};
-use crate::joint_law::{admissible_history_trial, admissible_trial, effective_law, JointState, PointHistory};
+use crate::joint_law::{
+    admissible_history_trial, admissible_piece, admissible_trial, effective_law, JointState, PointHistory,
+};
 use crate::scene::{JointLaw, ShearCheck};
 use rayon::prelude::*;
 
@@ -121,7 +123,7 @@ impl Setup<'_> {
 
     /// Adds the nodal forces of traction `t` at point `i` to the joint-node
     /// forces `out` of one section (`fe`: scratch).
-    fn scatter(&self, i: usize, t: [f64; 3], fe: &mut [f64; 18], out: &mut [f64]) {
+    pub(super) fn scatter(&self, i: usize, t: [f64; 3], fe: &mut [f64; 18], out: &mut [f64]) {
         if t == [0.0; 3] {
             return;
         }
@@ -139,7 +141,9 @@ impl Setup<'_> {
     /// Evaluates the law at every point of section `s`; returns the released
     /// joint-node forces (per radian) into `g`, and the field values. With
     /// the committed `history` of the section's points the history law is
-    /// used, else the paper's law with the break memory `broken`.
+    /// used, else the paper's law with the break memory `broken`; with
+    /// `pieces`, the law's piece of each point's given state
+    /// ([`admissible_piece`]).
     #[allow(clippy::too_many_arguments)]
     fn release(
         &self,
@@ -147,6 +151,7 @@ impl Setup<'_> {
         t0: Option<&[[f64; 3]]>,
         history: Option<&[PointHistory]>,
         broken: &mut [bool],
+        pieces: Option<&[JointState]>,
         g: &mut [f64],
         d_out: &mut [[f64; 3]],
         p_out: &mut [[f64; 3]],
@@ -161,9 +166,13 @@ impl Setup<'_> {
             let t0 = t0.map_or([0.0; 3], |t| t[i]);
             let h = history.map(|h| &h[i]);
             let t = self.trial(info.joint, d, h, t0);
-            let (p, state) = match h {
-                Some(h) => admissible_history_trial(law, t, h),
-                None => admissible_trial(law, t, &mut broken[i]),
+            let (p, state) = match (pieces, h) {
+                (Some(pieces), Some(h)) => {
+                    (admissible_piece(&effective_law(law, h), t, pieces[i]), pieces[i])
+                }
+                (Some(pieces), None) => (admissible_piece(law, t, pieces[i]), pieces[i]),
+                (None, Some(h)) => admissible_history_trial(law, t, h),
+                (None, None) => admissible_trial(law, t, &mut broken[i]),
             };
             // Released: what K_m's spring and the initial traction carry
             // minus what the law allows.
@@ -183,6 +192,12 @@ impl Setup<'_> {
     /// The release at every section from `ev.u_s`: `ev.g = release(u_s)`,
     /// the field and the break memory (updated in place).
     pub(super) fn release_all(&self, ev: &mut Eval) {
+        self.release_pieces(ev, None);
+    }
+
+    /// [`Setup::release_all`] with the law's piece of the given state per
+    /// (section, point) (`None`: the law picks).
+    pub(super) fn release_pieces(&self, ev: &mut Eval, pieces: Option<&[JointState]>) {
         let n_p = self.points.len().max(1);
         let Eval {
             u_s,
@@ -203,7 +218,8 @@ impl Setup<'_> {
             .for_each(|(s, ((((gs, bs), ds), ps), sts))| {
                 let history = self.history.as_ref().and_then(|h| h.get(s * n_p..(s + 1) * n_p));
                 let t0 = self.start.traction.get(s * n_p..(s + 1) * n_p);
-                self.release(&u_s[s * m..(s + 1) * m], t0, history, bs, gs, ds, ps, sts)
+                let pieces = pieces.map(|p| &p[s * n_p..(s + 1) * n_p]);
+                self.release(&u_s[s * m..(s + 1) * m], t0, history, bs, pieces, gs, ds, ps, sts)
             });
     }
 

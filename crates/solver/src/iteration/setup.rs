@@ -4,6 +4,7 @@
 //! of `Psi`; and [`FixedPoint`], the same evaluation for tests and
 //! diagnostics.
 
+use super::precondition::Interface;
 use super::release::Eval;
 use super::{Converged, IterationError, IterationRecord, JointField, JointStart, Outcome, PointInfo};
 use crate::elements::JointSprings;
@@ -14,6 +15,7 @@ use crate::loads::HarmonicLoads;
 use crate::scene::JointLaw;
 use crate::solution::{Displacements, HarmonicDisplacement};
 use rayon::prelude::*;
+use std::sync::{Arc, OnceLock};
 use std::time::Instant;
 
 /// A load step's `observe` sees the displacements of the harmonics up to
@@ -60,6 +62,9 @@ pub(super) struct Setup<'a> {
     /// The traction of every pair at zero displacement (the end of an
     /// initial phase; empty: none) and its debonded pairs.
     pub(super) start: JointStart,
+    /// The stiff-joint preconditioner's fixed data, formed at first use and
+    /// kept for every step of the run.
+    pub(super) interface: OnceLock<Arc<Interface>>,
 }
 
 impl<'a> Setup<'a> {
@@ -187,6 +192,7 @@ impl<'a> Setup<'a> {
             reference_law: false,
             tension_tol: 0.0,
             start: JointStart::default(),
+            interface: OnceLock::new(),
         };
         if let Some(start) = start {
             let n = setup.n_pairs();
@@ -429,9 +435,22 @@ impl<'a> Setup<'a> {
         released: &mut JointAmplitudes,
         ev: &mut Eval,
     ) -> JointAmplitudes {
-        let u = self.solve(x, true, released);
-        self.synthesize_all(&u, &mut ev.u_s);
+        let u = self.displace(x, released, &mut ev.u_s);
         self.release_all(ev);
+        u
+    }
+
+    /// `u_s = u_F + W x` (one sweep): the section displacements of the
+    /// joint nodes under the loads and the released section forces x.
+    /// Returns the joint-node amplitudes.
+    pub(super) fn displace(
+        &self,
+        x: &[f64],
+        released: &mut JointAmplitudes,
+        u_s: &mut [f64],
+    ) -> JointAmplitudes {
+        let u = self.solve(x, true, released);
+        self.synthesize_all(&u, u_s);
         u
     }
 
@@ -531,14 +550,7 @@ impl<'a> Setup<'a> {
     /// `ev` (one full solve for the displacements of every node).
     pub(super) fn finish(&self, x: &[f64], ev: Eval, history: Vec<IterationRecord>) -> Outcome {
         let displacements = self.full_displacements(x);
-        self.finish_with(
-            Converged {
-                x: x.to_vec(),
-                ev,
-                history,
-            },
-            displacements,
-        )
+        self.finish_with(Converged::new(x.to_vec(), Vec::new(), ev, history), displacements)
     }
 
     /// The outcome of a converged solve whose displacements are known.
@@ -643,6 +655,51 @@ impl<'a> FixedPoint<'a> {
         let mut ev = self.setup.new_eval();
         self.setup.evaluate(x, &mut released, &mut ev);
         (ev.g, ev.state)
+    }
+
+    /// Length of the traction form's unknowns: 3 per (section, point).
+    pub fn traction_len(&self) -> usize {
+        3 * self.setup.n_pairs()
+    }
+
+    /// The traction form's residual `F(tau) = t - P(t + (k_a / k)(t_trial -
+    /// t))` (Newton's unknowns where a joint is assembled softer than its
+    /// law) and the state of every (section, point) (one sweep).
+    pub fn traction_residual(&self, tau: &[f64]) -> (Vec<f64>, Vec<JointState>) {
+        let (f, ev) = self.traction_eval(tau);
+        (f, ev.state)
+    }
+
+    /// `J v` of the traction form at `tau`, at the states of `tau` (two
+    /// sweeps).
+    pub fn traction_jacobian_vector(&self, tau: &[f64], v: &[f64]) -> Vec<f64> {
+        use super::newton::Formulation;
+        let s = &self.setup;
+        let (_, ev) = self.traction_eval(tau);
+        let mut form = super::traction::Traction::new(s);
+        form.linearize(tau, &ev);
+        let mut released = s.zero_loads();
+        let mut x = vec![0.0; s.len()];
+        form.forces(v, &mut x);
+        let mut w = vec![0.0; s.len()];
+        s.apply_w(&x, &mut released, &mut w);
+        let mut out = vec![0.0; v.len()];
+        form.apply_j(v, &w, &mut out);
+        out
+    }
+
+    fn traction_eval(&self, tau: &[f64]) -> (Vec<f64>, Eval) {
+        use super::newton::Formulation;
+        let s = &self.setup;
+        let form = super::traction::Traction::new(s);
+        let mut released = s.zero_loads();
+        let mut ev = s.new_eval();
+        let mut x = vec![0.0; s.len()];
+        form.forces(tau, &mut x);
+        s.displace(&x, &mut released, &mut ev.u_s);
+        let mut f = vec![0.0; tau.len()];
+        form.residual(tau, &mut ev, None, &mut f);
+        (f, ev)
     }
 
     /// `J v = Psi'(x) v - v`, the generalized Jacobian of `R = Psi - x` with

@@ -32,7 +32,7 @@ use super::{
     Method, Outcome, Start,
 };
 use crate::fourier::Sections;
-use crate::joint_law::{commit, exceeds_tensile_strength, state_counts, PointHistory};
+use crate::joint_law::{commit, exceeds_tensile_strength, state_counts, JointState, PointHistory};
 use crate::linear::{HarmonicFactor, Model};
 use crate::loads::HarmonicLoads;
 use crate::scene::JointLaw;
@@ -173,7 +173,18 @@ pub fn stress_transfer_stepped<T>(
         };
         setup.lambda = target;
         setup.history = Some(committed.clone());
-        match solve_step(&mut setup, x_c.clone(), psi_ref, settings, &mut progress) {
+        // Newton's predictor: the states of the last converged step (all
+        // stick before the first).
+        let start = Start {
+            x0: x_c.clone(),
+            y0: last.as_ref().map(|(c, _)| c.y.clone()),
+            psi_ref: Some(psi_ref),
+            predictor: Some(
+                last.as_ref()
+                    .map_or_else(|| vec![JointState::Stick; n_pairs], |(c, _)| c.ev.state.clone()),
+            ),
+        };
+        match solve_step(&mut setup, start, settings, &mut progress) {
             Ok((conv, rounds)) => {
                 let mut hist = setup.history.take().unwrap_or_default();
                 for (i, h) in hist.iter_mut().enumerate() {
@@ -254,14 +265,7 @@ pub fn stress_transfer_stepped<T>(
             let mut ev = setup.new_eval();
             setup.evaluate(&x_c, &mut released, &mut ev);
             let displacements = setup.full_displacements(&x_c);
-            setup.finish_with(
-                Converged {
-                    x: x_c,
-                    ev,
-                    history: Vec::new(),
-                },
-                displacements,
-            )
+            setup.finish_with(Converged::new(x_c, Vec::new(), ev, Vec::new()), displacements)
         }
     };
     Ok(Stepped {
@@ -276,15 +280,11 @@ pub fn stress_transfer_stepped<T>(
 /// the new debonded points) in `setup.history`.
 fn solve_step(
     setup: &mut Setup,
-    x0: Vec<f64>,
-    psi_ref: f64,
+    mut start: Start,
     settings: &IterationSettings,
     progress: &mut dyn FnMut(&IterationRecord),
 ) -> Result<(Converged, u32), IterationError> {
-    let mut start = Start {
-        x0,
-        psi_ref: Some(psi_ref),
-    };
+    let psi_ref = start.psi_ref;
     let mut records = Vec::new();
     for round in 1..=MAX_ROUNDS {
         let mut conv = match settings.method {
@@ -309,9 +309,11 @@ fn solve_step(
                 .collect()
         });
         let debonded = breaking.len();
+        let mut predictor = conv.ev.state.clone();
         if let Some(hist) = setup.history.as_mut() {
             for i in breaking {
                 hist[i].debonded = true;
+                predictor[i] = JointState::Open;
             }
         }
         records.append(&mut conv.history);
@@ -321,7 +323,9 @@ fn solve_step(
         }
         start = Start {
             x0: conv.x,
-            psi_ref: Some(psi_ref),
+            y0: Some(conv.y),
+            psi_ref,
+            predictor: Some(predictor),
         };
     }
     Err(IterationError::Rounds {
