@@ -434,9 +434,18 @@ fn quotes(work: &Path, mesh: &Value) -> Vec<Quote> {
             0.0,
         ),
         q("reached `lambda = 1`", f(&summary["load_factor"]), 0.0),
-        q("109 solves are", f(&step["solves"]), 1.0),
         q(
-            "by 6.64e-4 (0.07 %)",
+            "It took 261 solves in all",
+            summary["load_steps"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|s| f(&s["solves"]))
+                .sum(),
+            1.0,
+        ),
+        q(
+            "by 7.01e-4 (0.07 %)",
             f(&summary["harmonic_check"]["face_change"]),
             1.0,
         ),
@@ -446,12 +455,12 @@ fn quotes(work: &Path, mesh: &Value) -> Vec<Quote> {
             1.0,
         ),
         q(
-            "areas by 5.50e-4",
+            "areas by 1.95e-3",
             f(&summary["harmonic_check"]["area_change"]),
             1.0,
         ),
         q(
-            "3.6 % on the displacement",
+            "3.0 % on the displacement",
             100.0 * f(&m4["harmonic_check"]["face_change"]),
             0.5,
         ),
@@ -460,8 +469,8 @@ fn quotes(work: &Path, mesh: &Value) -> Vec<Quote> {
             100.0 * f(&m4["harmonic_check"]["area_change"]),
             0.5,
         ),
-        q("It moves 3.28 mm along the load", 1e3 * ux, 0.03),
-        q("by 0.140 mm", 1e3 * uz, 0.15),
+        q("It moves 3.29 mm along the load", 1e3 * ux, 0.03),
+        q("by 0.141 mm", 1e3 * uz, 0.15),
         // 5. The CSV files.
         q("open over 22.5 m^2", shaft_area("open_area"), 0.05),
         q(
@@ -469,31 +478,31 @@ fn quotes(work: &Path, mesh: &Value) -> Vec<Quote> {
             100.0 * shaft_area("open_area") / f(&shaft["lateral_area"]),
             0.05,
         ),
-        q("slips over 4.84 m^2", shaft_area("slip_area"), 0.15),
-        q("sticks over 17.9 m^2", shaft_area("stick_area"), 0.05),
+        q("slips over 4.74 m^2", shaft_area("slip_area"), 0.15),
+        q("sticks over 18.0 m^2", shaft_area("stick_area"), 0.05),
         q(
             "open over 1.131 m^2",
             f(&summary["joints"]["pile_toe"]["open_area"]),
             1e-6,
         ),
-        q("pressed with -0.0300 MPa", front, 0.05),
-        q("within 0.0012 MPa of zero", back, 1.0),
+        q("pressed with -0.0303 MPa", front, 0.05),
+        q("within 0.0011 MPa of zero", back, 1.0),
         q("(-0.0134 MPa in front", front_bonded, 0.05),
-        q("2.25 times more", front / front_bonded, 0.05),
+        q("2.27 times more", front / front_bonded, 0.05),
         q("moves 1.92 mm bonded", 1e3 * ux_bonded, 0.03),
-        q("against 3.28 mm", 1e3 * ux, 0.03),
-        q("1.71 times softer", ux / ux_bonded, 0.04),
+        q("against 3.29 mm", 1e3 * ux, 0.03),
+        q("1.72 times softer", ux / ux_bonded, 0.04),
         q("The first point, 34 mm below", 1e3 * s(first), 0.05),
-        q("sigma = -0.0677 MPa", sigma, 0.05),
-        q("+ 0.0677 tan(30 deg)", -sigma, 0.05),
-        q("= 0.0491 MPa", 0.01 - sigma * 30f64.to_radians().tan(), 0.05),
+        q("sigma = -0.0679 MPa", sigma, 0.05),
+        q("+ 0.0679 tan(30 deg)", -sigma, 0.05),
+        q("= 0.0492 MPa", 0.01 - sigma * 30f64.to_radians().tan(), 0.05),
         q(
             "|tau_xi| of 0.0134 MPa",
             joint.num(first, "tau_xi [MPa]").abs(),
             0.05,
         ),
-        q("closed down to 6.87 m", s(front_rows[opens]), 0.05),
-        q("widest: 2.57 mm", 1e3 * joint.num(widest, "opening [m]"), 0.05),
+        q("closed down to 6.93 m", s(front_rows[opens]), 0.05),
+        q("widest: 2.58 mm", 1e3 * joint.num(widest, "opening [m]"), 0.05),
         // 6. The plots.
         q(
             "down to about 7.7 m",
@@ -501,13 +510,13 @@ fn quotes(work: &Path, mesh: &Value) -> Vec<Quote> {
             0.05,
         ),
         q(
-            "below about 6.8 m",
+            "below about 6.9 m",
             0.5 * (s(front_rows[opens - 1]) + s(front_rows[opens])),
             0.05,
         ),
-        q("are 1.21 MPa in tension", peak_back, 0.05),
+        q("are 1.20 MPa in tension", peak_back, 0.05),
         q("= -3.5 m)", z_back, 0.1),
-        q("and -1.18 MPa in compression", peak_front, 0.05),
+        q("and -1.17 MPa in compression", peak_front, 0.05),
         q("z = -3.25 m); bonded", z_front, 0.1),
         q("bonded, 0.901 MPa", bonded_back, 0.05),
         q("at z = -3.0 m on both sides", z_bonded, 0.1),
@@ -530,7 +539,7 @@ fn quotes(work: &Path, mesh: &Value) -> Vec<Quote> {
         q("at lambda = 0.2", step_lambda(s1), 0.0),
         q("to 61.1 MN/m", step_lambda(s5) * head_force / step_ux(s5), 0.03),
         q("3.271 mm, differs", 1e3 * step_ux(s5), 0.03),
-        q("differs by 0.30 %", 100.0 * (ux - step_ux(s5)).abs() / ux, 1.0),
+        q("differs by 0.59 %", 100.0 * (ux - step_ux(s5)).abs() / ux, 1.0),
     ]
 }
 

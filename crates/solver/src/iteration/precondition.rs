@@ -21,8 +21,7 @@
 //! ```
 //!
 //! exact when D does not vary around the turn. When the whole interface is
-//! small enough (`(number of harmonics and families) x 3 n_j <=`
-//! [`COUPLED_MAX`]), the blocks are not split: `P = Z^-1 - A D S` over all
+//! small enough, the blocks are not split: `P = Z^-1 - A D S` over all
 //! harmonics together, `M = J^-1` exactly, and GCR needs one direction.
 //! Where points open on one side of the turn and stick on the other, D
 //! varies strongly around the turn and the block-diagonal `P` alone leaves
@@ -30,9 +29,19 @@
 //! `D W` close to I along the joint's modes (the released traction comes
 //! back through the same stiff spring): `J` has eigenvalues of order
 //! `E / (k h)` there, and the plain Krylov solve crawls; `M` removes them.
-//! Cost per Newton step: one dense LU of order `3 n_j` per harmonic and
-//! family (`O(M (3 n_j)^3)`), or one of order `2 M 3 n_j` coupled; no
-//! sparse factorization; per application no sweep.
+//!
+//! The joint acts only on the jumps of its node pairs: with C the relative
+//! displacement of each pair (top minus bottom, `n_r = 3 pairs`, half the
+//! `3 n_j` joint-node unknowns), `A D S = C^T D_r C` and
+//!
+//! ```text
+//! P^-1 = Z + Z C^T (I - D_r Z_r)^-1 D_r C Z,   Z_r = C Z C^T
+//! ```
+//!
+//! so the dense LU has order `n_r` per group: `(number of harmonics and
+//! families) x n_r <=` [`COUPLED_MAX`] coupled, else one per harmonic and
+//! family. Cost per Newton step: that LU (an eighth of the joint-node
+//! form's); no sparse factorization; per application no sweep.
 
 use super::release::Tangent;
 use super::setup::{JointAmplitudes, Setup};
@@ -44,20 +53,29 @@ use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
 use std::sync::Arc;
 
-/// Largest order of the coupled interface tangent factorized densely: an
-/// LU of order 6000 takes about 2 s on 2 cores and 3 x 288 MB while it is
-/// formed. Measured on the pile in soil with k_eta h / E = 100 (order
-/// 5100): converges in 1 load step; block-diagonal, it stopped at
-/// lambda = 0 (100 sweeps per Newton step did not reach the forcing term).
+/// Largest order of the coupled interface tangent factorized densely, in
+/// the relative displacements of the joint's node pairs (half the
+/// joint-node unknowns): an LU of order 6000 takes about 2 s on 2 cores.
+/// Measured on the pile in soil with k_eta h / E = 100 (order 2550):
+/// converges in 1 load step; block-diagonal, it stopped at lambda = 0 (100
+/// sweeps per Newton step did not reach the forcing term).
 pub(super) const COUPLED_MAX: usize = 6000;
 
 /// The preconditioner's fixed data, formed once per run
 /// ([`Setup::interface`]).
 pub(super) struct Interface {
-    /// `Z_m` per harmonic index, order `3 n_j`.
+    /// `Z_m` per harmonic index, order `n = 3 n_j`.
     z: Vec<DMatrix<f64>>,
-    /// Per point: `B` (3 x 3 n_e, relative displacement of the element's
-    /// joint-node values) and `G` (3 n_e x 3, nodal forces of a traction).
+    /// `Z_m C^T` (n x n_r) and `Z_r = C Z_m C^T` (n_r x n_r), C the relative
+    /// displacement of each node pair (top minus bottom), `n_r = 3 pairs`.
+    zc: Vec<DMatrix<f64>>,
+    zr: Vec<DMatrix<f64>>,
+    /// The node pairs (bottom, top) in joint-node numbering.
+    pairs: Vec<(usize, usize)>,
+    /// Per point: its pairs, `B_r` (3 x 3 n_f, the relative displacement of
+    /// its pairs' jumps) and `G_r` (3 n_f x 3, the pair forces of a
+    /// traction, applied to the top node and opposite to the bottom one).
+    point_pairs: Vec<Vec<usize>>,
     b: Vec<DMatrix<f64>>,
     g: Vec<DMatrix<f64>>,
     /// Groups of (harmonic index, family) solved together: one group of
@@ -65,11 +83,11 @@ pub(super) struct Interface {
     groups: Vec<Vec<(usize, usize)>>,
 }
 
-/// The preconditioner: its fixed data and its factors at the current
-/// tangents.
+/// The preconditioner: its fixed data and, per group, `D_r` and the LU of
+/// `I - D_r Z_r` at the current tangents.
 pub(super) struct BlockPreconditioner {
     fixed: Arc<Interface>,
-    /// LU of `I - Z Dbar` per group (`None`: singular, then `P^-1 = Z`).
+    dr: Vec<DMatrix<f64>>,
     lu: Vec<Option<PartialPivLu<f64>>>,
 }
 
@@ -77,7 +95,29 @@ impl Interface {
     /// Forms `Z_m` for every harmonic and the point operators.
     pub(super) fn new(setup: &Setup) -> Self {
         let n = 3 * setup.joint_nodes.len();
-        let z = setup
+        // The node pairs of every point (elements are [bottom..., top...]).
+        let mut index = std::collections::HashMap::new();
+        let mut pairs = Vec::new();
+        let point_pairs: Vec<Vec<usize>> = setup
+            .points
+            .iter()
+            .enumerate()
+            .map(|(i, info)| {
+                let nf = info.point.n_face;
+                let nl = &setup.local[i];
+                (0..nf)
+                    .map(|a| {
+                        let key = (nl[a], nl[nf + a]);
+                        *index.entry(key).or_insert_with(|| {
+                            pairs.push(key);
+                            pairs.len() - 1
+                        })
+                    })
+                    .collect()
+            })
+            .collect();
+        let nr = 3 * pairs.len();
+        let solved: Vec<[DMatrix<f64>; 3]> = setup
             .factor_of
             .par_iter()
             .map(|factor| {
@@ -97,40 +137,72 @@ impl Interface {
                         e[1][i + 1] = 0.0;
                     }
                 }
-                z
+                // Z C^T: column (pair, c) = Z e_top - Z e_bottom (Z symmetric).
+                let mut zc = DMatrix::<f64>::zeros(n, nr);
+                for (q, &(bot, top)) in pairs.iter().enumerate() {
+                    for c in 0..3 {
+                        let col = z.column(3 * top + c) - z.column(3 * bot + c);
+                        zc.set_column(3 * q + c, &col);
+                    }
+                }
+                let mut zr = DMatrix::<f64>::zeros(nr, nr);
+                for (q, &(bot, top)) in pairs.iter().enumerate() {
+                    for c in 0..3 {
+                        let row = zc.row(3 * top + c) - zc.row(3 * bot + c);
+                        zr.set_row(3 * q + c, &row);
+                    }
+                }
+                [z, zc, zr]
             })
             .collect();
+        let (mut z, mut zc, mut zr) = (Vec::new(), Vec::new(), Vec::new());
+        for [a, b, c] in solved {
+            z.push(a);
+            zc.push(b);
+            zr.push(c);
+        }
         let (mut b, mut g) = (Vec::new(), Vec::new());
-        for (i, info) in setup.points.iter().enumerate() {
-            let ne = 3 * setup.local[i].len();
-            let mut bi = DMatrix::<f64>::zeros(3, ne);
+        for info in &setup.points {
+            // The top half of the element operators: the jumps of the pairs.
+            let nf = info.point.n_face;
+            let ne = 6 * nf;
+            let mut bi = DMatrix::<f64>::zeros(3, 3 * nf);
             let mut unit = vec![0.0; ne];
-            for k in 0..ne {
-                unit[k] = 1.0;
+            for k in 0..3 * nf {
+                unit[3 * nf + k] = 1.0;
                 let d = relative_displacement(&info.point, &unit);
                 bi.set_column(k, &nalgebra::Vector3::from(d));
-                unit[k] = 0.0;
+                unit[3 * nf + k] = 0.0;
             }
-            let mut gi = DMatrix::<f64>::zeros(ne, 3);
+            let mut gi = DMatrix::<f64>::zeros(3 * nf, 3);
             for c in 0..3 {
                 let mut t = [0.0; 3];
                 t[c] = 1.0;
                 let mut f = vec![0.0; ne];
                 add_traction_forces(&info.point, t, 1.0, &mut f);
-                gi.set_column(c, &DVector::from_vec(f));
+                gi.set_column(c, &DVector::from_column_slice(&f[3 * nf..]));
             }
             b.push(bi);
             g.push(gi);
         }
-        let pairs: Vec<(usize, usize)> = (0..setup.n_h)
+        let members: Vec<(usize, usize)> = (0..setup.n_h)
             .flat_map(|h| (0..if setup.both[h] { 2 } else { 1 }).map(move |f| (h, f)))
             .collect();
-        let groups = if pairs.len() * n <= COUPLED_MAX {
-            vec![pairs]
+        let groups = if members.len() * nr <= COUPLED_MAX {
+            vec![members]
         } else {
-            pairs.into_iter().map(|p| vec![p]).collect()
+            members.into_iter().map(|p| vec![p]).collect()
         };
-        Interface { z, b, g, groups }
+        Interface {
+            z,
+            zc,
+            zr,
+            pairs,
+            point_pairs,
+            b,
+            g,
+            groups,
+        }
     }
 }
 
@@ -142,23 +214,26 @@ impl BlockPreconditioner {
                 .interface
                 .get_or_init(|| Arc::new(Interface::new(setup)))
                 .clone(),
+            dr: Vec::new(),
             lu: Vec::new(),
         }
     }
 
-    /// Factorizes `I - Z Dbar` of every group at the joint tangents `tangents`.
+    /// Forms `D_r` (the joint tangent `A D S` on the pairs' relative
+    /// displacements, coupled over each group) and factorizes
+    /// `I - D_r Z_r` of every group at the joint tangents `tangents`.
     pub(super) fn update(&mut self, setup: &Setup, tangents: &[Tangent]) {
-        let n = 3 * setup.joint_nodes.len();
         let n_p = setup.points.len();
         let sections = setup.sections;
         const FAMILIES: [Family; 2] = [Family::Symmetric, Family::Antisymmetric];
         let fixed = &*self.fixed;
-        self.lu = fixed
+        let nr = 3 * fixed.pairs.len();
+        let (dr, lu): (Vec<_>, Vec<_>) = fixed
             .groups
             .par_iter()
             .map(|group| {
-                let size = group.len() * n;
-                let mut dbar = DMatrix::<f64>::zeros(size, size);
+                let size = group.len() * nr;
+                let mut dr = DMatrix::<f64>::zeros(size, size);
                 let mut c = vec![nalgebra::Matrix3::<f64>::zeros(); group.len() * group.len()];
                 // Phi = (a, a, b) of each member at each section.
                 let phi: Vec<Vec<[f64; 3]>> = (0..sections.len())
@@ -198,15 +273,15 @@ impl BlockPreconditioner {
                     if !used {
                         continue;
                     }
-                    let nl = &setup.local[p];
+                    let pp = &fixed.point_pairs[p];
                     for i in 0..group.len() {
                         for j in 0..group.len() {
                             let e = &fixed.g[p] * c[i * group.len() + j] * &fixed.b[p];
-                            for (ai, &ja) in nl.iter().enumerate() {
-                                for (bi, &jb) in nl.iter().enumerate() {
+                            for (ai, &qa) in pp.iter().enumerate() {
+                                for (bi, &qb) in pp.iter().enumerate() {
                                     for ci in 0..3 {
                                         for cj in 0..3 {
-                                            dbar[(i * n + 3 * ja + ci, j * n + 3 * jb + cj)] +=
+                                            dr[(i * nr + 3 * qa + ci, j * nr + 3 * qb + cj)] +=
                                                 e[(3 * ai + ci, 3 * bi + cj)];
                                         }
                                     }
@@ -215,27 +290,31 @@ impl BlockPreconditioner {
                         }
                     }
                 }
-                // Q = I - Z Dbar, Z block-diagonal over the group.
-                let mut q = DMatrix::<f64>::identity(size, size);
-                for (i, &(h, _)) in group.iter().enumerate() {
-                    let rows = dbar.rows(i * n, n);
-                    let zd = &fixed.z[h] * rows;
-                    let mut target = q.rows_mut(i * n, n);
-                    target -= zd;
+                // Q = I - D_r Z_r, Z_r block-diagonal over the group.
+                let mut q = Mat::<f64>::identity(size, size);
+                for (j, &(h, _)) in group.iter().enumerate() {
+                    let dz = dr.columns(j * nr, nr) * &fixed.zr[h];
+                    for r in 0..size {
+                        for c in 0..nr {
+                            q[(r, j * nr + c)] -= dz[(r, c)];
+                        }
+                    }
                 }
-                drop(dbar);
                 // faer's blocked LU: nalgebra's unblocked one took most of
                 // the time of a stiff-joint run.
-                let lu = Mat::<f64>::from_fn(size, size, |r, c| q[(r, c)]).partial_piv_lu();
+                let lu = q.partial_piv_lu();
                 let singular = (0..size).any(|i| lu.U()[(i, i)] == 0.0);
-                (!singular).then_some(lu)
+                (dr, (!singular).then_some(lu))
             })
-            .collect();
+            .unzip();
+        self.dr = dr;
+        self.lu = lu;
     }
 
     /// `u_s = S P^-1 A r`: the section displacements of the section forces
     /// `r` through the coupled interface tangent of the last
-    /// [`BlockPreconditioner::update`] (no sweep; `released` is scratch).
+    /// [`BlockPreconditioner::update`] (no sweep; `released` is scratch):
+    /// `P^-1 = (Z^-1 - C^T D_r C)^-1 = Z + Z C^T (I - D_r Z_r)^-1 D_r C Z`.
     pub(super) fn displacements(
         &self,
         setup: &Setup,
@@ -243,32 +322,38 @@ impl BlockPreconditioner {
         released: &mut JointAmplitudes,
         u_s: &mut [f64],
     ) {
-        let n = 3 * setup.joint_nodes.len();
+        let fixed = &*self.fixed;
+        let nr = 3 * fixed.pairs.len();
         setup.analyse(r, released);
         for (h, fams) in released.iter_mut().enumerate() {
             if !setup.both[h] {
                 fams[1].fill(0.0);
             }
         }
-        for (group, lu) in self.fixed.groups.iter().zip(&self.lu) {
-            let mut y = DVector::<f64>::zeros(group.len() * n);
+        for ((group, lu), dr) in fixed.groups.iter().zip(&self.lu).zip(&self.dr) {
+            // y = Z r per member, and C Z r = (Z C^T)^T r.
+            let mut y = Vec::with_capacity(group.len());
+            let mut yr = DVector::<f64>::zeros(group.len() * nr);
             for (i, &(h, f)) in group.iter().enumerate() {
-                let zv = &self.fixed.z[h] * DVector::from_column_slice(&released[h][f]);
-                y.rows_mut(i * n, n).copy_from(&zv);
+                let rv = DVector::from_column_slice(&released[h][f]);
+                y.push(&fixed.z[h] * &rv);
+                yr.rows_mut(i * nr, nr).copy_from(&fixed.zc[h].tr_mul(&rv));
             }
             if let Some(lu) = lu {
-                let mut col = y.clone();
+                let mut w = dr * yr;
                 lu.solve_in_place(faer::MatMut::from_column_major_slice_mut(
-                    col.as_mut_slice(),
-                    y.len(),
+                    w.as_mut_slice(),
+                    group.len() * nr,
                     1,
                 ));
-                if col.iter().all(|v| v.is_finite()) {
-                    y = col;
+                if w.iter().all(|v| v.is_finite()) {
+                    for (i, &(h, _)) in group.iter().enumerate() {
+                        y[i] += &fixed.zc[h] * w.rows(i * nr, nr);
+                    }
                 }
             }
             for (i, &(h, f)) in group.iter().enumerate() {
-                released[h][f].copy_from_slice(y.rows(i * n, n).as_slice());
+                released[h][f].copy_from_slice(y[i].as_slice());
             }
         }
         setup.synthesize_all(released, u_s);

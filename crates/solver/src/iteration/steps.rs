@@ -52,6 +52,13 @@ pub const MAX_ROUNDS: u32 = 50;
 /// fixed-point iterations, summed over its rounds) lets the increment grow.
 pub const EASY_ITERATIONS: usize = 12;
 
+/// Largest change of the observed displacements (relative, L2 over the
+/// harmonics 0..=[`super::OBSERVED_UP_TO`]) between one step and its two
+/// halves that `"auto"` accepts (the path check).
+pub const PATH_TOL: f64 = 0.01;
+/// Steps at most this long (a fraction of the load) are not path-checked.
+pub const PATH_MIN: f64 = 1.0 / 64.0;
+
 /// How the load is raised.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct StepControl {
@@ -59,16 +66,28 @@ pub struct StepControl {
     pub first: f64,
     /// The largest increment.
     pub max: f64,
+    /// Whether a step that debonded points (more than one round) is
+    /// compared with its two halves and cut back when they differ by more
+    /// than [`PATH_TOL`] (the history law is path-dependent).
+    pub check_path: bool,
 }
 
 impl StepControl {
-    /// The whole load first, growth up to the whole load.
-    pub const AUTO: StepControl = StepControl { first: 1.0, max: 1.0 };
+    /// The whole load first, growth up to the whole load, the path check.
+    pub const AUTO: StepControl = StepControl {
+        first: 1.0,
+        max: 1.0,
+        check_path: true,
+    };
 
-    /// Increments of at most `1 / n`.
+    /// Increments of at most `1 / n` (no path check: the user's steps).
     pub fn steps(n: u32) -> StepControl {
         let d = 1.0 / n.max(1) as f64;
-        StepControl { first: d, max: d }
+        StepControl {
+            first: d,
+            max: d,
+            check_path: false,
+        }
     }
 }
 
@@ -186,46 +205,80 @@ pub fn stress_transfer_stepped<T>(
         };
         match solve_step(&mut setup, start, settings, &mut progress) {
             Ok((conv, rounds)) => {
-                let mut hist = setup.history.take().unwrap_or_default();
-                for (i, h) in hist.iter_mut().enumerate() {
-                    let springs = setup.springs(i);
-                    commit(
-                        &springs,
-                        conv.ev.d[i],
-                        setup.t0(i),
-                        conv.ev.p[i],
-                        conv.ev.state[i],
-                        h,
-                    );
+                let hist = commit_history(&mut setup, &conv);
+                let mut accepted = vec![(target, conv, rounds, hist)];
+                // The path check: the step against its two halves.
+                if control.check_path && rounds > 1 && target - lam_c > PATH_MIN {
+                    let mid = 0.5 * (lam_c + target);
+                    let (_, conv, _, _) = &accepted[0];
+                    let full = setup.observed_displacements(&conv.x);
+                    let y = last.as_ref().map(|(c, _)| c.y.clone());
+                    let pred = last.as_ref().map(|(c, _)| c.ev.state.clone());
+                    match halves(
+                        &mut setup,
+                        StepStart {
+                            history: &committed,
+                            x: &x_c,
+                            y,
+                            predictor: pred,
+                        },
+                        (mid, target),
+                        psi_ref,
+                        settings,
+                        &mut progress,
+                    ) {
+                        Ok((first, second)) => {
+                            let change = path_change(&full, &setup.observed_displacements(&second.1.x));
+                            if change > PATH_TOL {
+                                spent += [&accepted[0].1, &first.1, &second.1]
+                                    .iter()
+                                    .flat_map(|c| &c.history)
+                                    .map(|r| r.solves)
+                                    .sum::<u32>();
+                                delta = 0.5 * (target - lam_c);
+                                continue;
+                            }
+                            spent += accepted[0].1.history.iter().map(|r| r.solves).sum::<u32>();
+                            accepted = vec![first, second];
+                        }
+                        // The halves failed where the whole step converged:
+                        // keep the whole step.
+                        Err(e) => spent += e.history().iter().map(|r| r.solves).sum::<u32>(),
+                    }
                 }
-                committed = hist;
-                lam_c = target;
-                x_c.clone_from(&conv.x);
-                let displacements = setup.observed_displacements(&x_c);
-                let field = setup.field(&conv.ev);
-                let observed = observe(lam_c, &displacements, &field);
-                let (open, slip, stick) = state_counts(&conv.ev.state);
-                let iterations = conv.history.len();
-                steps.push(LoadStep {
-                    lambda: lam_c,
-                    iterations,
-                    solves: spent + conv.history.iter().map(|r| r.solves).sum::<u32>(),
-                    rounds,
-                    cutbacks,
-                    open,
-                    slip,
-                    stick,
-                    observed,
-                });
-                last = Some((conv, setup.observes_all().then_some(displacements)));
-                (cutbacks, spent) = (0, 0);
+                let mut easy = true;
+                for (target, conv, rounds, hist) in accepted {
+                    committed = hist;
+                    lam_c = target;
+                    setup.lambda = target;
+                    x_c.clone_from(&conv.x);
+                    let displacements = setup.observed_displacements(&x_c);
+                    let field = setup.field(&conv.ev);
+                    let observed = observe(lam_c, &displacements, &field);
+                    let (open, slip, stick) = state_counts(&conv.ev.state);
+                    let iterations = conv.history.len();
+                    easy &= iterations <= EASY_ITERATIONS;
+                    steps.push(LoadStep {
+                        lambda: lam_c,
+                        iterations,
+                        solves: spent + conv.history.iter().map(|r| r.solves).sum::<u32>(),
+                        rounds,
+                        cutbacks,
+                        open,
+                        slip,
+                        stick,
+                        observed,
+                    });
+                    last = Some((conv, setup.observes_all().then_some(displacements)));
+                    (cutbacks, spent) = (0, 0);
+                }
                 if lam_c >= 1.0 {
                     break None;
                 }
                 if failed_at.is_some_and(|f| f <= lam_c) {
                     failed_at = None;
                 }
-                if failed_at.is_none() && iterations <= EASY_ITERATIONS {
+                if failed_at.is_none() && easy {
                     delta = (2.0 * delta).min(control.max);
                 }
                 if let Some(f) = failed_at {
@@ -273,6 +326,96 @@ pub fn stress_transfer_stepped<T>(
         steps,
         limit,
     })
+}
+
+/// The committed history after converged step `conv` (the trial history
+/// `solve_step` left in `setup.history`, with the step's plastic slip).
+fn commit_history(setup: &mut Setup, conv: &Converged) -> Vec<PointHistory> {
+    let mut hist = setup.history.take().unwrap_or_default();
+    for (i, h) in hist.iter_mut().enumerate() {
+        let springs = setup.springs(i);
+        commit(
+            &springs,
+            conv.ev.d[i],
+            setup.t0(i),
+            conv.ev.p[i],
+            conv.ev.state[i],
+            h,
+        );
+    }
+    hist
+}
+
+/// A converged step: its load factor, solution, rounds, committed history.
+type Accepted = (f64, Converged, u32, Vec<PointHistory>);
+
+/// Where a step starts: the committed history, the released forces, and
+/// Newton's unknowns and predictor states there (none before the first).
+struct StepStart<'a> {
+    history: &'a [PointHistory],
+    x: &'a [f64],
+    y: Option<Vec<f64>>,
+    predictor: Option<Vec<JointState>>,
+}
+
+/// The two halves of a step from `from` to `at` = (mid, end).
+fn halves(
+    setup: &mut Setup,
+    from: StepStart,
+    at: (f64, f64),
+    psi_ref: f64,
+    settings: &IterationSettings,
+    progress: &mut dyn FnMut(&IterationRecord),
+) -> Result<(Accepted, Accepted), IterationError> {
+    let StepStart {
+        history,
+        x: x0,
+        y: y0,
+        predictor,
+    } = from;
+    let n_pairs = setup.n_pairs();
+    setup.lambda = at.0;
+    setup.history = Some(history.to_vec());
+    let start = Start {
+        x0: x0.to_vec(),
+        y0,
+        psi_ref: Some(psi_ref),
+        predictor: Some(predictor.unwrap_or_else(|| vec![JointState::Stick; n_pairs])),
+    };
+    let (c1, r1) = solve_step(setup, start, settings, progress)?;
+    let h1 = commit_history(setup, &c1);
+    setup.lambda = at.1;
+    setup.history = Some(h1.clone());
+    let start = Start {
+        x0: c1.x.clone(),
+        y0: Some(c1.y.clone()),
+        psi_ref: Some(psi_ref),
+        predictor: Some(c1.ev.state.clone()),
+    };
+    let (c2, r2) = solve_step(setup, start, settings, progress)?;
+    let h2 = commit_history(setup, &c2);
+    Ok(((at.0, c1, r1, h1), (at.1, c2, r2, h2)))
+}
+
+/// `|a - b| / |b|` over every observed harmonic and family.
+fn path_change(a: &Displacements, b: &Displacements) -> f64 {
+    let (mut diff, mut norm) = (0.0, 0.0);
+    for (ha, hb) in a.harmonics.iter().zip(&b.harmonics) {
+        for (va, vb) in ha
+            .symmetric
+            .iter()
+            .chain(&ha.antisymmetric)
+            .zip(hb.symmetric.iter().chain(&hb.antisymmetric))
+        {
+            diff += (va - vb) * (va - vb);
+            norm += vb * vb;
+        }
+    }
+    if norm > 0.0 {
+        (diff / norm).sqrt()
+    } else {
+        0.0
+    }
 }
 
 /// One step at `setup.lambda` from the history in `setup.history`: the

@@ -248,6 +248,9 @@ impl Formulation for Traction<'_, '_> {
             self.dd_inv[k] = dd_inv;
             self.tangents[k] = t;
         }
+        // Refactorized at every step: reusing it while the states stay the
+        // same (the slip tangents move) cost 2 -> 15 load steps at
+        // k_eta h / E = 1e5 on Scene P and stopped 1e6 at lambda = 0.
         let pre = self.pre.get_or_insert_with(|| BlockPreconditioner::new(s));
         pre.update(s, &self.tangents);
     }
