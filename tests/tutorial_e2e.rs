@@ -460,7 +460,7 @@ fn quotes(work: &Path, mesh: &Value) -> Vec<Quote> {
             1.0,
         ),
         q(
-            "3.0 % on the displacement",
+            "4.2 % on the displacement",
             100.0 * f(&m4["harmonic_check"]["face_change"]),
             0.5,
         ),

@@ -52,9 +52,9 @@ pub const MAX_ROUNDS: u32 = 50;
 /// fixed-point iterations, summed over its rounds) lets the increment grow.
 pub const EASY_ITERATIONS: usize = 12;
 
-/// Largest change of the observed displacements (relative, L2 over the
-/// harmonics 0..=[`super::OBSERVED_UP_TO`]) between one step and its two
-/// halves that `"auto"` accepts (the path check).
+/// Largest change of the joint nodes' displacements at the sections
+/// (relative, L2) between one step and its two halves that `"auto"`
+/// accepts (the path check).
 pub const PATH_TOL: f64 = 0.01;
 /// Steps at most this long (a fraction of the load) are not path-checked.
 pub const PATH_MIN: f64 = 1.0 / 64.0;
@@ -182,6 +182,7 @@ pub fn stress_transfer_stepped<T>(
     let mut delta = control.first.clamp(MIN_INCREMENT, 1.0);
     let mut failed_at: Option<f64> = None;
     let (mut cutbacks, mut spent) = (0u32, 0u32);
+    let mut reuse: Option<Accepted> = None;
     let limit = loop {
         // Within rounding of the whole load: the whole load (N steps of 1 / N
         // add up to 1 - 1e-16, and a step of that size is noise).
@@ -203,15 +204,22 @@ pub fn stress_transfer_stepped<T>(
                     .map_or_else(|| vec![JointState::Stick; n_pairs], |(c, _)| c.ev.state.clone()),
             ),
         };
-        match solve_step(&mut setup, start, settings, &mut progress) {
-            Ok((conv, rounds)) => {
+        // A step the path check already solved (the first half of a
+        // rejected one) is not solved again.
+        let attempt = match reuse.take() {
+            Some(step) if (step.0 - target).abs() <= 1e-12 => Ok(step),
+            _ => solve_step(&mut setup, start, settings, &mut progress).map(|(conv, rounds)| {
                 let hist = commit_history(&mut setup, &conv);
-                let mut accepted = vec![(target, conv, rounds, hist)];
+                (target, conv, rounds, hist)
+            }),
+        };
+        match attempt {
+            Ok(step) => {
+                let rounds = step.2;
+                let mut accepted = vec![step];
                 // The path check: the step against its two halves.
                 if control.check_path && rounds > 1 && target - lam_c > PATH_MIN {
-                    let mid = 0.5 * (lam_c + target);
-                    let (_, conv, _, _) = &accepted[0];
-                    let full = setup.observed_displacements(&conv.x);
+                    let mid = lam_c + 0.5 * (target - lam_c);
                     let y = last.as_ref().map(|(c, _)| c.y.clone());
                     let pred = last.as_ref().map(|(c, _)| c.ev.state.clone());
                     match halves(
@@ -228,14 +236,17 @@ pub fn stress_transfer_stepped<T>(
                         &mut progress,
                     ) {
                         Ok((first, second)) => {
-                            let change = path_change(&full, &setup.observed_displacements(&second.1.x));
+                            let change = path_change(&accepted[0].1.ev.u_s, &second.1.ev.u_s);
                             if change > PATH_TOL {
-                                spent += [&accepted[0].1, &first.1, &second.1]
+                                // The first half is the next attempt (its
+                                // solves counted when it is taken).
+                                spent += [&accepted[0].1, &second.1]
                                     .iter()
                                     .flat_map(|c| &c.history)
                                     .map(|r| r.solves)
                                     .sum::<u32>();
                                 delta = 0.5 * (target - lam_c);
+                                reuse = Some(first);
                                 continue;
                             }
                             spent += accepted[0].1.history.iter().map(|r| r.solves).sum::<u32>();
@@ -397,19 +408,12 @@ fn halves(
     Ok(((at.0, c1, r1, h1), (at.1, c2, r2, h2)))
 }
 
-/// `|a - b| / |b|` over every observed harmonic and family.
-fn path_change(a: &Displacements, b: &Displacements) -> f64 {
+/// `|a - b| / |b|` (L2) of two section displacements of the joint nodes.
+fn path_change(a: &[f64], b: &[f64]) -> f64 {
     let (mut diff, mut norm) = (0.0, 0.0);
-    for (ha, hb) in a.harmonics.iter().zip(&b.harmonics) {
-        for (va, vb) in ha
-            .symmetric
-            .iter()
-            .chain(&ha.antisymmetric)
-            .zip(hb.symmetric.iter().chain(&hb.antisymmetric))
-        {
-            diff += (va - vb) * (va - vb);
-            norm += vb * vb;
-        }
+    for (va, vb) in a.iter().zip(b) {
+        diff += (va - vb) * (va - vb);
+        norm += vb * vb;
     }
     if norm > 0.0 {
         (diff / norm).sqrt()
