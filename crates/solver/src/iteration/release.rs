@@ -210,6 +210,7 @@ impl Setup<'_> {
         let u_s = &*u_s;
         let m = self.per_section();
         g.par_chunks_mut(m)
+            .with_min_len(self.min_len())
             .zip(broken.par_chunks_mut(n_p))
             .zip(d.par_chunks_mut(n_p))
             .zip(p.par_chunks_mut(n_p))
@@ -226,21 +227,24 @@ impl Setup<'_> {
     /// The joint tangent of every (section, point) at the states of `ev`.
     pub(super) fn tangents(&self, ev: &Eval, out: &mut [Tangent]) {
         let n_p = self.points.len().max(1);
-        out.par_chunks_mut(n_p).enumerate().for_each(|(s, ts)| {
-            for (i, (t, info)) in ts.iter_mut().zip(&self.points).enumerate() {
-                let k = s * self.points.len() + i;
-                let joint = &self.model.joints[info.joint];
-                let springs = joint.springs;
-                let law = &self.laws[info.joint];
-                let h = self.history.as_ref().and_then(|h| h.get(k));
-                let trial = self.trial(info.joint, ev.d[k], h, self.t0(k));
-                let law_tangent = match h {
-                    Some(h) => release_tangent(&effective_law(law, h), trial, ev.state[k]),
-                    None => release_tangent(law, trial, ev.state[k]),
-                };
-                *t = reference_tangent(law_tangent, &springs, &joint.assembled);
-            }
-        });
+        out.par_chunks_mut(n_p)
+            .with_min_len(self.min_len())
+            .enumerate()
+            .for_each(|(s, ts)| {
+                for (i, (t, info)) in ts.iter_mut().zip(&self.points).enumerate() {
+                    let k = s * self.points.len() + i;
+                    let joint = &self.model.joints[info.joint];
+                    let springs = joint.springs;
+                    let law = &self.laws[info.joint];
+                    let h = self.history.as_ref().and_then(|h| h.get(k));
+                    let trial = self.trial(info.joint, ev.d[k], h, self.t0(k));
+                    let law_tangent = match h {
+                        Some(h) => release_tangent(&effective_law(law, h), trial, ev.state[k]),
+                        None => release_tangent(law, trial, ev.state[k]),
+                    };
+                    *t = reference_tangent(law_tangent, &springs, &joint.assembled);
+                }
+            });
     }
 
     /// `out = D du_s`: the released section forces of the displacement
@@ -248,20 +252,23 @@ impl Setup<'_> {
     pub(super) fn apply_tangent(&self, tangents: &[Tangent], du_s: &[f64], out: &mut [f64]) {
         let m = self.per_section();
         let n_p = self.points.len();
-        out.par_chunks_mut(m).enumerate().for_each(|(s, os)| {
-            os.fill(0.0);
-            let du = &du_s[s * m..(s + 1) * m];
-            let mut fe = [0.0; 18];
-            for (i, info) in self.points.iter().enumerate() {
-                let Some(t) = tangents[s * n_p + i] else {
-                    continue;
-                };
-                let springs: JointSprings = self.model.joints[info.joint].assembled;
-                let dt = springs.traction(self.relative(i, du));
-                let de = [0, 1, 2].map(|r| t[r][0] * dt[0] + t[r][1] * dt[1] + t[r][2] * dt[2]);
-                self.scatter(i, de, &mut fe, os);
-            }
-        });
+        out.par_chunks_mut(m)
+            .with_min_len(self.min_len())
+            .enumerate()
+            .for_each(|(s, os)| {
+                os.fill(0.0);
+                let du = &du_s[s * m..(s + 1) * m];
+                let mut fe = [0.0; 18];
+                for (i, info) in self.points.iter().enumerate() {
+                    let Some(t) = tangents[s * n_p + i] else {
+                        continue;
+                    };
+                    let springs: JointSprings = self.model.joints[info.joint].assembled;
+                    let dt = springs.traction(self.relative(i, du));
+                    let de = [0, 1, 2].map(|r| t[r][0] * dt[0] + t[r][1] * dt[1] + t[r][2] * dt[2]);
+                    self.scatter(i, de, &mut fe, os);
+                }
+            });
     }
 }
 

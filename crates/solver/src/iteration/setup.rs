@@ -23,6 +23,10 @@ use std::time::Instant;
 /// loaded faces' mean motion is theirs: harmonics 0 and 1).
 pub const OBSERVED_UP_TO: u32 = 1;
 
+/// (section, point) pairs below which the loops over the sections run on
+/// one thread ([`Setup::min_len`]).
+pub(super) const SEQUENTIAL_PAIRS: usize = 1024;
+
 /// Joint-node values per harmonic, `[symmetric, antisymmetric]`, each
 /// `3 * joint nodes` (the node order of [`Model::joint_nodes`]).
 pub(super) type JointAmplitudes = Vec<[Vec<f64>; 2]>;
@@ -326,9 +330,22 @@ impl<'a> Setup<'a> {
         }
     }
 
+    /// The smallest number of sections a parallel loop over them hands to
+    /// one thread: all of them (no hand-off) when the joint has fewer than
+    /// [`SEQUENTIAL_PAIRS`] (section, point) pairs, where waking the
+    /// threads cost more than the work.
+    pub(super) fn min_len(&self) -> usize {
+        if self.n_pairs() < SEQUENTIAL_PAIRS {
+            usize::MAX
+        } else {
+            1
+        }
+    }
+
     /// Synthesizes the joint-node displacements at every section.
     pub(super) fn synthesize_all(&self, u: &JointAmplitudes, u_s: &mut [f64]) {
         u_s.par_chunks_mut(self.per_section())
+            .with_min_len(self.min_len())
             .enumerate()
             .for_each(|(s, out)| self.synthesize(u, s, out));
     }
@@ -491,30 +508,34 @@ impl<'a> Setup<'a> {
     /// [`Setup::synthesize`] with the section weights).
     pub(super) fn analyse(&self, x: &[f64], released: &mut JointAmplitudes) {
         let n_j = self.joint_nodes.len();
-        released.par_iter_mut().enumerate().for_each(|(h, out)| {
-            for s in 0..self.sections.len() {
-                let w = self.sections.weight[s];
-                let xs = &x[s * 3 * n_j..(s + 1) * 3 * n_j];
-                for (k, (family, vec)) in [Family::Symmetric, Family::Antisymmetric]
-                    .into_iter()
-                    .zip(out.iter_mut())
-                    .enumerate()
-                {
-                    if s == 0 {
-                        vec.fill(0.0);
-                    }
-                    let (a, b) = self.phi(s, h, family);
-                    if (a == 0.0 && b == 0.0) || (k == 1 && !self.both[h]) {
-                        continue;
-                    }
-                    for (v, xj) in vec.chunks_exact_mut(3).zip(xs.chunks_exact(3)) {
-                        v[0] += w * a * xj[0];
-                        v[1] += w * a * xj[1];
-                        v[2] += w * b * xj[2];
+        released
+            .par_iter_mut()
+            .with_min_len(self.min_len())
+            .enumerate()
+            .for_each(|(h, out)| {
+                for s in 0..self.sections.len() {
+                    let w = self.sections.weight[s];
+                    let xs = &x[s * 3 * n_j..(s + 1) * 3 * n_j];
+                    for (k, (family, vec)) in [Family::Symmetric, Family::Antisymmetric]
+                        .into_iter()
+                        .zip(out.iter_mut())
+                        .enumerate()
+                    {
+                        if s == 0 {
+                            vec.fill(0.0);
+                        }
+                        let (a, b) = self.phi(s, h, family);
+                        if (a == 0.0 && b == 0.0) || (k == 1 && !self.both[h]) {
+                            continue;
+                        }
+                        for (v, xj) in vec.chunks_exact_mut(3).zip(xs.chunks_exact(3)) {
+                            v[0] += w * a * xj[0];
+                            v[1] += w * a * xj[1];
+                            v[2] += w * b * xj[2];
+                        }
                     }
                 }
-            }
-        });
+            });
     }
 
     /// `Psi = max_s |f_s|` of a residual.

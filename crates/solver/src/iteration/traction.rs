@@ -144,6 +144,7 @@ impl Formulation for Traction<'_, '_> {
         let s = self.setup;
         let n_p = s.points.len();
         x.par_chunks_mut(s.per_section())
+            .with_min_len(s.min_len())
             .enumerate()
             .for_each(|(sec, xs)| {
                 xs.fill(0.0);
@@ -169,6 +170,7 @@ impl Formulation for Traction<'_, '_> {
         } = ev;
         let u_s = &*u_s;
         g.par_chunks_mut(m)
+            .with_min_len(s.min_len())
             .zip(res.par_chunks_mut(3 * n_p))
             .zip(broken.par_chunks_mut(n_p))
             .zip(d.par_chunks_mut(n_p))
@@ -259,17 +261,20 @@ impl Formulation for Traction<'_, '_> {
         let s = self.setup;
         let n_p = s.points.len().max(1);
         let m = s.per_section();
-        out.par_chunks_mut(3 * n_p).enumerate().for_each(|(sec, os)| {
-            let w = &wz[sec * m..(sec + 1) * m];
-            for i in 0..s.points.len() {
-                let k = sec * n_p + i;
-                let a = mul3(&self.dvk[k], s.relative(i, w));
-                let b = mul3(&self.dd[k], [z[3 * k], z[3 * k + 1], z[3 * k + 2]]);
-                for c in 0..3 {
-                    os[3 * i + c] = a[c] - b[c];
+        out.par_chunks_mut(3 * n_p)
+            .with_min_len(s.min_len())
+            .enumerate()
+            .for_each(|(sec, os)| {
+                let w = &wz[sec * m..(sec + 1) * m];
+                for i in 0..s.points.len() {
+                    let k = sec * n_p + i;
+                    let a = mul3(&self.dvk[k], s.relative(i, w));
+                    let b = mul3(&self.dd[k], [z[3 * k], z[3 * k + 1], z[3 * k + 2]]);
+                    for c in 0..3 {
+                        os[3 * i + c] = a[c] - b[c];
+                    }
                 }
-            }
-        });
+            });
     }
 
     fn precondition(&mut self, r: &[f64], released: &mut JointAmplitudes, out: &mut [f64]) -> bool {
@@ -288,17 +293,20 @@ impl Formulation for Traction<'_, '_> {
         let m = s.per_section();
         let u_s = &self.u_s;
         let tangents = &self.tangents;
-        out.par_chunks_mut(3 * n_p).enumerate().for_each(|(sec, os)| {
-            let u = &u_s[sec * m..(sec + 1) * m];
-            for (i, info) in s.points.iter().enumerate() {
-                let k = sec * n_p + i;
-                let ka = s.model.joints[info.joint].assembled.traction(s.relative(i, u));
-                let e = tangents[k].map_or([0.0; 3], |t| mul3(&t, ka));
-                for c in 0..3 {
-                    os[3 * i + c] = -(os[3 * i + c] + e[c]);
+        out.par_chunks_mut(3 * n_p)
+            .with_min_len(s.min_len())
+            .enumerate()
+            .for_each(|(sec, os)| {
+                let u = &u_s[sec * m..(sec + 1) * m];
+                for (i, info) in s.points.iter().enumerate() {
+                    let k = sec * n_p + i;
+                    let ka = s.model.joints[info.joint].assembled.traction(s.relative(i, u));
+                    let e = tangents[k].map_or([0.0; 3], |t| mul3(&t, ka));
+                    for c in 0..3 {
+                        os[3 * i + c] = -(os[3 * i + c] + e[c]);
+                    }
                 }
-            }
-        });
+            });
         true
     }
 
