@@ -18,7 +18,12 @@
 //! when a load fails at most [`BRACKET`] (relative) or [`MIN_INCREMENT`]
 //! (absolute) above the last converged one: that load factor is the limit
 //! load factor, bracketed by the failed one; or after [`MAX_CUTBACKS`]
-//! failures in a row.
+//! failures in a row. With [`StepControl::check_path`] (`"auto"`) a
+//! converged step that debonded points is solved again as two halves and
+//! retried at half size when they differ by more than [`PATH_TOL`] (the
+//! path check; the first half becomes the next attempt); else the halves
+//! are kept. The first Newton step of every step and round linearizes at
+//! the last converged states (the predictor, used by the traction form).
 //!
 //! The residual ratio of every step is relative to the same reference
 //! ([`Setup::reference_release`]: the released forces of the elastic
