@@ -24,18 +24,27 @@
 //! The private submodules: `setup` (the fixed data of a run, synthesis and
 //! analysis, one evaluation of `Psi`), `release` (the joint law at the
 //! sections and its tangent), `fixed_point` (the paper's and Anderson's
-//! iterations), `newton` (Newton-Krylov) and `diagnosis` (why a run stopped).
+//! iterations), `formulation` (what Newton iterates on), `newton`
+//! (Newton-Krylov, and its nodal form), `traction` (its traction form, for
+//! joints stiffer than their elements), `precondition` and `interface`
+//! (the interface-tangent preconditioner and its fixed data), `steps` (the
+//! load path), `diagnosis` (why a run stopped) and `probe` ([`FixedPoint`],
+//! for tests).
 
 mod diagnosis;
 mod fixed_point;
+mod formulation;
+mod interface;
 mod newton;
 mod precondition;
+mod probe;
 mod release;
 mod setup;
 mod steps;
 mod traction;
 
-pub use setup::{FixedPoint, OBSERVED_UP_TO};
+pub use probe::FixedPoint;
+pub use setup::OBSERVED_UP_TO;
 pub use steps::{
     stress_transfer_stepped, LimitLoad, LoadStep, StepControl, Stepped, BRACKET, EASY_ITERATIONS,
     MAX_CUTBACKS, MAX_ROUNDS, MIN_INCREMENT, PATH_MIN, PATH_TOL,

@@ -6,6 +6,7 @@
 //! ([`Krylov`]).
 
 use super::diagnosis::{no_equilibrium, not_converged, unresolved};
+use super::formulation::{Formulation, NEWTON_HALVINGS};
 use super::release::{Eval, Tangent};
 use super::setup::{JointAmplitudes, Setup};
 use super::traction::Traction;
@@ -23,49 +24,6 @@ const NEWTON_STALL: u32 = 8;
 /// an upper bound of 0.5 or 0.1 instead of 0.3 costs 0 to 3 more sweeps).
 const NEWTON_ETA_MIN: f64 = 1e-3;
 const NEWTON_ETA_MAX: f64 = 0.3;
-
-/// Halvings of the Newton step before the plain step is taken instead
-/// (lambda >= 1/32: a smaller one means a joint point switches state just
-/// ahead, where the linearization says nothing, and accepting tiny steps
-/// only creeps along the switching surface).
-const NEWTON_HALVINGS: u32 = 5;
-
-/// Halvings with a joint stiffer than its elements (the traction form):
-/// the law's kinks lie closer together there. Measured on Scene P with
-/// k_eta h / E = 12.5 and 100: 30 halvings fail the one-shot runs, 10
-/// converge them and the stepped runs.
-pub(super) const NEWTON_HALVINGS_STIFF: u32 = 10;
-
-/// What Newton iterates on: unknowns y, the section displacements
-/// `u_s = u_F + W G y` (G: the section forces of y, one sweep), the residual
-/// `R(y)` at given displacements (no sweep) and its generalized Jacobian
-/// `J = dR/dy` at the states of the last [`Formulation::linearize`].
-pub(super) trait Formulation {
-    /// The run's data.
-    fn setup(&self) -> &Setup<'_>;
-    /// Number of unknowns.
-    fn len(&self) -> usize;
-    /// `x = G y`, the released section forces of y.
-    fn forces(&self, y: &[f64], x: &mut [f64]);
-    /// `R(y)` at the displacements `ev.u_s` (no sweep), the law choosing
-    /// each point's state, or the law's piece of `pieces`; fills `ev`.
-    fn residual(&self, y: &[f64], ev: &mut Eval, pieces: Option<&[JointState]>, res: &mut [f64]);
-    /// The section-force residual (`G R`) of a residual, for the ratio and
-    /// the diagnosis.
-    fn section_residual(&self, res: &[f64], out: &mut [f64]);
-    /// The joint tangent at `ev` (the evaluation at y), and the
-    /// preconditioner's factors.
-    fn linearize(&mut self, y: &[f64], ev: &Eval);
-    /// `out = J z` given `wz = W G z` (no sweep).
-    fn apply_j(&self, z: &[f64], wz: &[f64], out: &mut [f64]);
-    /// `out = M r`, M an approximate inverse of J (no sweep); `false` when
-    /// there is none (`out` untouched).
-    fn precondition(&mut self, r: &[f64], released: &mut JointAmplitudes, out: &mut [f64]) -> bool;
-    /// Halvings of the line search.
-    fn halvings(&self) -> u32;
-    /// Whether a warm start's first step linearizes at the predictor states.
-    fn predicts(&self) -> bool;
-}
 
 /// Newton on the released section forces: `R(x) = Psi(x) - x`,
 /// `J = D W - I` (D the release tangent,

@@ -43,6 +43,7 @@
 //! family. Cost per Newton step: that LU (an eighth of the joint-node
 //! form's); no sparse factorization; per application no sweep.
 
+use super::interface::Interface;
 use super::release::Tangent;
 use super::setup::{JointAmplitudes, Setup};
 use crate::elements::{add_traction_forces, relative_displacement};
@@ -60,28 +61,6 @@ use std::sync::Arc;
 /// converges in 1 load step; block-diagonal, it stopped at lambda = 0 (100
 /// sweeps per Newton step did not reach the forcing term).
 pub(super) const COUPLED_MAX: usize = 6000;
-
-/// The preconditioner's fixed data, formed once per run
-/// ([`Setup::interface`]).
-pub(super) struct Interface {
-    /// `Z_m` per harmonic index, order `n = 3 n_j`.
-    z: Vec<DMatrix<f64>>,
-    /// `Z_m C^T` (n x n_r) and `Z_r = C Z_m C^T` (n_r x n_r), C the relative
-    /// displacement of each node pair (top minus bottom), `n_r = 3 pairs`.
-    zc: Vec<DMatrix<f64>>,
-    zr: Vec<DMatrix<f64>>,
-    /// The node pairs (bottom, top) in joint-node numbering.
-    pairs: Vec<(usize, usize)>,
-    /// Per point: its pairs, `B_r` (3 x 3 n_f, the relative displacement of
-    /// its pairs' jumps) and `G_r` (3 n_f x 3, the pair forces of a
-    /// traction, applied to the top node and opposite to the bottom one).
-    point_pairs: Vec<Vec<usize>>,
-    b: Vec<DMatrix<f64>>,
-    g: Vec<DMatrix<f64>>,
-    /// Groups of (harmonic index, family) solved together: one group of
-    /// every pair (coupled), or one group per pair (block-diagonal).
-    groups: Vec<Vec<(usize, usize)>>,
-}
 
 /// The preconditioner: its fixed data and, per group, `D_r` and the LU of
 /// `I - D_r Z_r` at the current tangents.

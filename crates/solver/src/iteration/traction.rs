@@ -34,7 +34,7 @@
 //! ([`BlockPreconditioner`]): `J^-1 r = -(y + Dd^-1 Dv k_a B S P^-1 A G y)`,
 //! `y = Dd^-1 r`, exact when the interface is small.
 
-use super::newton::Formulation;
+use super::formulation::{Formulation, NEWTON_HALVINGS_STIFF};
 use super::precondition::BlockPreconditioner;
 use super::release::{release_tangent, Eval, Tangent};
 use super::setup::{JointAmplitudes, Setup};
@@ -311,7 +311,7 @@ impl Formulation for Traction<'_, '_> {
     }
 
     fn halvings(&self) -> u32 {
-        super::newton::NEWTON_HALVINGS_STIFF
+        NEWTON_HALVINGS_STIFF
     }
 
     /// Measured on Scene P at k_eta h / E = 1e6 (before the path check):

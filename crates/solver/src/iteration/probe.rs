@@ -1,0 +1,116 @@
+//! The fixed-point map of a run and the traction form's residual, for tests
+//! and diagnostics ([`FixedPoint`]): the same evaluations the iteration uses.
+
+use super::formulation::Formulation;
+use super::release::Eval;
+use super::setup::Setup;
+use super::traction::Traction;
+use super::IterationError;
+use crate::fourier::Sections;
+use crate::joint_law::JointState;
+use crate::linear::{HarmonicFactor, Model};
+use crate::loads::HarmonicLoads;
+use crate::scene::JointLaw;
+
+/// The fixed-point map `Psi` of a model and its Jacobian, for tests and
+/// diagnostics: the same evaluation the iteration uses.
+pub struct FixedPoint<'a> {
+    setup: Setup<'a>,
+}
+
+impl<'a> FixedPoint<'a> {
+    /// The map for `loads` (every harmonic factorized in `factors`),
+    /// `laws[j]` the law of `model.joints[j]`, evaluated at `sections`.
+    pub fn new(
+        model: &'a Model,
+        factors: &'a [HarmonicFactor],
+        loads: &'a [HarmonicLoads],
+        laws: &'a [JointLaw],
+        sections: &'a Sections,
+    ) -> Result<Self, IterationError> {
+        Ok(FixedPoint {
+            setup: Setup::new(model, factors, loads, laws, sections, None, None)?,
+        })
+    }
+
+    /// Length of x: sections x joint nodes x 3 (index `(s * n_j + j) * 3 + c`).
+    pub fn len(&self) -> usize {
+        self.setup.len()
+    }
+
+    /// True when there is no joint node.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// `Psi(x)` and the state of every (section, point) (index
+    /// `s * n_points + p`), with no point broken before (one sweep).
+    pub fn psi(&self, x: &[f64]) -> (Vec<f64>, Vec<JointState>) {
+        let mut released = self.setup.zero_loads();
+        let mut ev = self.setup.new_eval();
+        self.setup.evaluate(x, &mut released, &mut ev);
+        (ev.g, ev.state)
+    }
+
+    /// Length of the traction form's unknowns: 3 per (section, point).
+    pub fn traction_len(&self) -> usize {
+        3 * self.setup.n_pairs()
+    }
+
+    /// The traction form's residual `F(tau) = t - P(t + (k_a / k)(t_trial -
+    /// t))` (Newton's unknowns where a joint is assembled softer than its
+    /// law) and the state of every (section, point) (one sweep).
+    pub fn traction_residual(&self, tau: &[f64]) -> (Vec<f64>, Vec<JointState>) {
+        let (f, ev) = self.traction_eval(tau);
+        (f, ev.state)
+    }
+
+    /// `J v` of the traction form at `tau`, at the states of `tau` (two
+    /// sweeps).
+    pub fn traction_jacobian_vector(&self, tau: &[f64], v: &[f64]) -> Vec<f64> {
+        let s = &self.setup;
+        let (_, ev) = self.traction_eval(tau);
+        let mut form = Traction::new(s);
+        form.linearize(tau, &ev);
+        let mut released = s.zero_loads();
+        let mut x = vec![0.0; s.len()];
+        form.forces(v, &mut x);
+        let mut w = vec![0.0; s.len()];
+        s.apply_w(&x, &mut released, &mut w);
+        let mut out = vec![0.0; v.len()];
+        form.apply_j(v, &w, &mut out);
+        out
+    }
+
+    fn traction_eval(&self, tau: &[f64]) -> (Vec<f64>, Eval) {
+        let s = &self.setup;
+        let form = Traction::new(s);
+        let mut released = s.zero_loads();
+        let mut ev = s.new_eval();
+        let mut x = vec![0.0; s.len()];
+        form.forces(tau, &mut x);
+        s.displace(&x, &mut released, &mut ev.u_s);
+        let mut f = vec![0.0; tau.len()];
+        form.residual(tau, &mut ev, None, &mut f);
+        (f, ev)
+    }
+
+    /// `J v = Psi'(x) v - v`, the generalized Jacobian of `R = Psi - x` with
+    /// the joint tangent at the states of x (two sweeps: `Psi(x)`, `W v`).
+    pub fn jacobian_vector(&self, x: &[f64], v: &[f64]) -> Vec<f64> {
+        let s = &self.setup;
+        let mut released = s.zero_loads();
+        let mut ev = s.new_eval();
+        s.evaluate(x, &mut released, &mut ev);
+        let mut tangents = vec![None; s.n_pairs()];
+        s.tangents(&ev, &mut tangents);
+        let mut w = vec![0.0; s.len()];
+        s.apply_w(v, &mut released, &mut w);
+        let mut out = vec![0.0; s.len()];
+        s.apply_tangent(&tangents, &w, &mut out);
+        for (o, vi) in out.iter_mut().zip(v) {
+            *o -= vi;
+        }
+        out
+    }
+}
