@@ -23,7 +23,7 @@ use axijoint_solver::error::SolverError;
 use axijoint_solver::iteration::{
     stress_transfer, FixedPoint, IterationError, IterationRecord, IterationSettings, Method,
 };
-use axijoint_solver::joint_law::JointState;
+use axijoint_solver::joint_law::{state_counts, JointState};
 use axijoint_solver::scene::{JointLaw, Load, Loading, Scene, ShearCheck, SolverMethod};
 use std::f64::consts::PI;
 use std::time::Instant;
@@ -62,6 +62,29 @@ fn noise(n: usize, seed: u64) -> Vec<f64> {
         .collect()
 }
 
+/// The central difference `(f(x + h v) - f(x - h v)) / 2h` of a map that
+/// also gives the joint states, at the largest h (from `1e-5 |x| / |v|`
+/// down, by 4) where neither side changes a state of `f(x)`; and that h.
+fn central_difference(
+    f: impl Fn(&[f64]) -> (Vec<f64>, Vec<JointState>),
+    x: &[f64],
+    v: &[f64],
+    what: &str,
+) -> (Vec<f64>, f64) {
+    let (_, states) = f(x);
+    let mut h = 1e-5 * norm(x) / norm(v);
+    loop {
+        let xp: Vec<f64> = x.iter().zip(v).map(|(a, b)| a + h * b).collect();
+        let xm: Vec<f64> = x.iter().zip(v).map(|(a, b)| a - h * b).collect();
+        let ((p, sp), (m, sm)) = (f(&xp), f(&xm));
+        if sp == states && sm == states {
+            return (p.iter().zip(&m).map(|(p, m)| (p - m) / (2.0 * h)).collect(), h);
+        }
+        h *= 0.25;
+        assert!(h > 1e-12 * norm(x) / norm(v), "{what}: a point sits on a switch");
+    }
+}
+
 /// The analytic Jacobian-vector product `J v = D(x) W v - v` against the
 /// central difference `(Psi(x + h v) - Psi(x - h v)) / 2h - v`, at x = the
 /// fifth plain iterate of Scene P (open, slip and stick points all
@@ -96,37 +119,12 @@ fn jacobian_vector_product_matches_a_finite_difference_of_psi() {
             x = fp.psi(&x).0;
         }
         let (_, states) = fp.psi(&x);
-        let count = |k: JointState| states.iter().filter(|&&s| s == k).count();
-        let (open, slip, stick) = (
-            count(JointState::Open),
-            count(JointState::Slip),
-            count(JointState::Stick),
-        );
+        let (open, slip, stick) = state_counts(&states);
         assert!(open > 0 && slip > 0, "{name}: open {open}, slip {slip}");
         let v = noise(fp.len(), 7);
         let jv = fp.jacobian_vector(&x, &v);
-        // The largest h (from 1e-5 |x| / |v| down) with no state change.
-        let mut h = 1e-5 * norm(&x) / norm(&v);
-        let (plus, minus) = loop {
-            let xp: Vec<f64> = x.iter().zip(&v).map(|(a, b)| a + h * b).collect();
-            let xm: Vec<f64> = x.iter().zip(&v).map(|(a, b)| a - h * b).collect();
-            let (p, sp) = fp.psi(&xp);
-            let (m, sm) = fp.psi(&xm);
-            if sp == states && sm == states {
-                break (p, m);
-            }
-            h *= 0.25;
-            assert!(
-                h > 1e-12 * norm(&x) / norm(&v),
-                "{name}: a point sits on a switch"
-            );
-        };
-        let fd: Vec<f64> = plus
-            .iter()
-            .zip(&minus)
-            .zip(&v)
-            .map(|((p, m), vi)| (p - m) / (2.0 * h) - vi)
-            .collect();
+        let (dpsi, h) = central_difference(|x| fp.psi(x), &x, &v, name);
+        let fd: Vec<f64> = dpsi.iter().zip(&v).map(|(d, vi)| d - vi).collect();
         let err: Vec<f64> = jv.iter().zip(&fd).map(|(a, b)| a - b).collect();
         let rel = norm(&err) / norm(&jv);
         println!(
@@ -167,38 +165,14 @@ fn traction_form_jacobian_matches_a_finite_difference() {
             tau.iter_mut().zip(&r).for_each(|(t, ri)| *t += ri);
         }
         let (_, states) = fp.traction_residual(&tau);
-        let count = |k: JointState| states.iter().filter(|&&s| s == k).count();
-        let (open, slip, stick) = (
-            count(JointState::Open),
-            count(JointState::Slip),
-            count(JointState::Stick),
-        );
+        let (open, slip, stick) = state_counts(&states);
         assert!(
             open > 0 && slip > 0 && stick > 0,
             "{kh}: open {open}, slip {slip}, stick {stick}"
         );
         let v = noise(tau.len(), 11);
         let jv = fp.traction_jacobian_vector(&tau, &v);
-        let mut h = 1e-5 * norm(&tau) / norm(&v);
-        let (plus, minus) = loop {
-            let tp: Vec<f64> = tau.iter().zip(&v).map(|(a, b)| a + h * b).collect();
-            let tm: Vec<f64> = tau.iter().zip(&v).map(|(a, b)| a - h * b).collect();
-            let (p, sp) = fp.traction_residual(&tp);
-            let (m, sm) = fp.traction_residual(&tm);
-            if sp == states && sm == states {
-                break (p, m);
-            }
-            h *= 0.25;
-            assert!(
-                h > 1e-12 * norm(&tau) / norm(&v),
-                "{kh}: a point sits on a switch"
-            );
-        };
-        let fd: Vec<f64> = plus
-            .iter()
-            .zip(&minus)
-            .map(|(p, m)| (p - m) / (2.0 * h))
-            .collect();
+        let (fd, _) = central_difference(|t| fp.traction_residual(t), &tau, &v, &format!("k h / E = {kh}"));
         let err: Vec<f64> = jv.iter().zip(&fd).map(|(a, b)| a - b).collect();
         let rel = norm(&err) / norm(&jv);
         println!(

@@ -4,7 +4,7 @@
 use super::setup::Setup;
 use crate::elements::{add_traction_forces, relative_displacement, JointSprings};
 use crate::joint_law::{
-    admissible_history_trial, admissible_piece, admissible_trial, effective_law, JointState, PointHistory,
+    admissible_history_trial, admissible_piece, admissible_trial, effective_law, JointState,
 };
 use crate::scene::{JointLaw, ShearCheck};
 use rayon::prelude::*;
@@ -20,6 +20,56 @@ pub(super) struct Eval {
     pub(super) p: Vec<[f64; 3]>,
     pub(super) state: Vec<JointState>,
     pub(super) broken: Vec<bool>,
+}
+
+/// The writable fields of one section of an [`Eval`] (its points in
+/// order).
+pub(super) struct SectionEval<'e> {
+    pub(super) g: &'e mut [f64],
+    pub(super) d: &'e mut [[f64; 3]],
+    pub(super) p: &'e mut [[f64; 3]],
+    pub(super) state: &'e mut [JointState],
+    pub(super) broken: &'e mut [bool],
+}
+
+impl Eval {
+    /// `u_s`, and the writable fields section by section in parallel
+    /// (`m` joint-node values and `n_p` points a section, at least
+    /// `min_len` sections a thread).
+    pub(super) fn sections_mut(
+        &mut self,
+        m: usize,
+        n_p: usize,
+        min_len: usize,
+    ) -> (
+        &[f64],
+        impl IndexedParallelIterator<Item = (usize, SectionEval<'_>)>,
+    ) {
+        let Eval {
+            u_s,
+            g,
+            d,
+            p,
+            state,
+            broken,
+        } = self;
+        let sections = g
+            .par_chunks_mut(m)
+            .with_min_len(min_len)
+            .zip(d.par_chunks_mut(n_p))
+            .zip(p.par_chunks_mut(n_p))
+            .zip(state.par_chunks_mut(n_p))
+            .zip(broken.par_chunks_mut(n_p))
+            .map(|((((g, d), p), state), broken)| SectionEval {
+                g,
+                d,
+                p,
+                state,
+                broken,
+            })
+            .enumerate();
+        (u_s, sections)
+    }
 }
 
 /// The joint tangent at one (section, point): the derivative of the
@@ -138,42 +188,44 @@ impl Setup<'_> {
         }
     }
 
-    /// Evaluates the law at every point of section `s`; returns the released
-    /// joint-node forces (per radian) into `g`, and the field values. With
-    /// the committed `history` of the section's points the history law is
-    /// used, else the paper's law with the break memory `broken`; with
-    /// `pieces`, the law's piece of each point's given state
-    /// ([`admissible_piece`]).
-    #[allow(clippy::too_many_arguments)]
-    fn release(
+    /// The admissible traction and state of pair `k` (point `i`) at trial
+    /// traction `t`: the law's piece of `piece` if given ([`admissible_piece`]),
+    /// else the history law where the pair has a committed history, else
+    /// the paper's law with the break memory `broken`.
+    pub(super) fn admissible(
         &self,
-        u_s: &[f64],
-        t0: Option<&[[f64; 3]]>,
-        history: Option<&[PointHistory]>,
-        broken: &mut [bool],
-        pieces: Option<&[JointState]>,
-        g: &mut [f64],
-        d_out: &mut [[f64; 3]],
-        p_out: &mut [[f64; 3]],
-        st_out: &mut [JointState],
-    ) {
-        g.fill(0.0);
+        k: usize,
+        i: usize,
+        t: [f64; 3],
+        piece: Option<JointState>,
+        broken: &mut bool,
+    ) -> ([f64; 3], JointState) {
+        let law = &self.laws[self.points[i].joint];
+        let h = self.history.as_ref().and_then(|h| h.get(k));
+        match (piece, h) {
+            (Some(piece), Some(h)) => (admissible_piece(&effective_law(law, h), t, piece), piece),
+            (Some(piece), None) => (admissible_piece(law, t, piece), piece),
+            (None, Some(h)) => admissible_history_trial(law, t, h),
+            (None, None) => admissible_trial(law, t, broken),
+        }
+    }
+
+    /// Evaluates the law at every point of section `s` from its joint-node
+    /// displacements `u_s`: the released joint-node forces (per radian)
+    /// into `out.g`, and the field values (with `pieces`, the law's piece
+    /// of each pair's given state).
+    fn release(&self, s: usize, u_s: &[f64], pieces: Option<&[JointState]>, out: SectionEval) {
+        let n_p = self.points.len();
+        out.g.fill(0.0);
         let mut fe = [0.0; 18];
         for (i, info) in self.points.iter().enumerate() {
+            let k = s * n_p + i;
             let joint = &self.model.joints[info.joint];
             let d = self.relative(i, u_s);
-            let law = &self.laws[info.joint];
-            let t0 = t0.map_or([0.0; 3], |t| t[i]);
-            let h = history.map(|h| &h[i]);
+            let t0 = self.t0(k);
+            let h = self.history.as_ref().and_then(|h| h.get(k));
             let t = self.trial(info.joint, d, h, t0);
-            let (p, state) = match (pieces, h) {
-                (Some(pieces), Some(h)) => {
-                    (admissible_piece(&effective_law(law, h), t, pieces[i]), pieces[i])
-                }
-                (Some(pieces), None) => (admissible_piece(law, t, pieces[i]), pieces[i]),
-                (None, Some(h)) => admissible_history_trial(law, t, h),
-                (None, None) => admissible_trial(law, t, &mut broken[i]),
-            };
+            let (p, state) = self.admissible(k, i, t, pieces.map(|p| p[k]), &mut out.broken[i]);
             // Released: what K_m's spring and the initial traction carry
             // minus what the law allows.
             let trial = joint.assembled.traction(d);
@@ -182,10 +234,10 @@ impl Setup<'_> {
             } else {
                 [0, 1, 2].map(|c| trial[c] + t0[c] - p[c])
             };
-            self.scatter(i, excess, &mut fe, g);
-            d_out[i] = d;
-            p_out[i] = p;
-            st_out[i] = state;
+            self.scatter(i, excess, &mut fe, out.g);
+            out.d[i] = d;
+            out.p[i] = p;
+            out.state[i] = state;
         }
     }
 
@@ -198,30 +250,9 @@ impl Setup<'_> {
     /// [`Setup::release_all`] with the law's piece of the given state per
     /// (section, point) (`None`: the law picks).
     pub(super) fn release_pieces(&self, ev: &mut Eval, pieces: Option<&[JointState]>) {
-        let n_p = self.points.len().max(1);
-        let Eval {
-            u_s,
-            g,
-            d,
-            p,
-            state,
-            broken,
-        } = ev;
-        let u_s = &*u_s;
         let m = self.per_section();
-        g.par_chunks_mut(m)
-            .with_min_len(self.min_len())
-            .zip(broken.par_chunks_mut(n_p))
-            .zip(d.par_chunks_mut(n_p))
-            .zip(p.par_chunks_mut(n_p))
-            .zip(state.par_chunks_mut(n_p))
-            .enumerate()
-            .for_each(|(s, ((((gs, bs), ds), ps), sts))| {
-                let history = self.history.as_ref().and_then(|h| h.get(s * n_p..(s + 1) * n_p));
-                let t0 = self.start.traction.get(s * n_p..(s + 1) * n_p);
-                let pieces = pieces.map(|p| &p[s * n_p..(s + 1) * n_p]);
-                self.release(&u_s[s * m..(s + 1) * m], t0, history, bs, pieces, gs, ds, ps, sts)
-            });
+        let (u_s, sections) = ev.sections_mut(m, self.points.len().max(1), self.min_len());
+        sections.for_each(|(s, out)| self.release(s, &u_s[s * m..(s + 1) * m], pieces, out));
     }
 
     /// The joint tangent of every (section, point) at the states of `ev`.

@@ -198,25 +198,17 @@ pub fn stress_transfer_stepped<T>(
         };
         setup.lambda = target;
         setup.history = Some(committed.clone());
-        // Newton's predictor: the states of the last converged step (all
-        // stick before the first).
-        let start = Start {
-            x0: x_c.clone(),
-            y0: last.as_ref().map(|(c, _)| c.y.clone()),
-            psi_ref: Some(psi_ref),
-            predictor: Some(
-                last.as_ref()
-                    .map_or_else(|| vec![JointState::Stick; n_pairs], |(c, _)| c.ev.state.clone()),
-            ),
-        };
         // A step the path check already solved (the first half of a
         // rejected one) is not solved again.
         let attempt = match reuse.take() {
             Some(step) if (step.0 - target).abs() <= 1e-12 => Ok(step),
-            _ => solve_step(&mut setup, start, settings, &mut progress).map(|(conv, rounds)| {
-                let hist = commit_history(&mut setup, &conv);
-                (target, conv, rounds, hist)
-            }),
+            _ => {
+                let start = start_after(&setup, last.as_ref().map(|(c, _)| c), psi_ref);
+                solve_step(&mut setup, start, settings, &mut progress).map(|(conv, rounds)| {
+                    let hist = commit_history(&mut setup, &conv);
+                    (target, conv, rounds, hist)
+                })
+            }
         };
         match attempt {
             Ok(step) => {
@@ -225,16 +217,10 @@ pub fn stress_transfer_stepped<T>(
                 // The path check: the step against its two halves.
                 if control.check_path && rounds > 1 && target - lam_c > PATH_MIN {
                     let mid = lam_c + 0.5 * (target - lam_c);
-                    let y = last.as_ref().map(|(c, _)| c.y.clone());
-                    let pred = last.as_ref().map(|(c, _)| c.ev.state.clone());
                     match halves(
                         &mut setup,
-                        StepStart {
-                            history: &committed,
-                            x: &x_c,
-                            y,
-                            predictor: pred,
-                        },
+                        &committed,
+                        last.as_ref().map(|(c, _)| c),
                         (mid, target),
                         psi_ref,
                         settings,
@@ -365,49 +351,40 @@ fn commit_history(setup: &mut Setup, conv: &Converged) -> Vec<PointHistory> {
 /// A converged step: its load factor, solution, rounds, committed history.
 type Accepted = (f64, Converged, u32, Vec<PointHistory>);
 
-/// Where a step starts: the committed history, the released forces, and
-/// Newton's unknowns and predictor states there (none before the first).
-struct StepStart<'a> {
-    history: &'a [PointHistory],
-    x: &'a [f64],
-    y: Option<Vec<f64>>,
-    predictor: Option<Vec<JointState>>,
+/// Where a step starts: the released forces, Newton's unknowns and (the
+/// predictor) the states of the last converged step `conv`; before the
+/// first, zero forces and every pair sticking.
+fn start_after(setup: &Setup, conv: Option<&Converged>, psi_ref: f64) -> Start {
+    Start {
+        x0: conv.map_or_else(|| vec![0.0; setup.len()], |c| c.x.clone()),
+        y0: conv.map(|c| c.y.clone()),
+        psi_ref: Some(psi_ref),
+        predictor: Some(conv.map_or_else(
+            || vec![JointState::Stick; setup.n_pairs()],
+            |c| c.ev.state.clone(),
+        )),
+    }
 }
 
-/// The two halves of a step from `from` to `at` = (mid, end).
+/// The two halves of a step from the committed `history` and the last
+/// converged step `from` to `at` = (mid, end).
 fn halves(
     setup: &mut Setup,
-    from: StepStart,
+    history: &[PointHistory],
+    from: Option<&Converged>,
     at: (f64, f64),
     psi_ref: f64,
     settings: &IterationSettings,
     progress: &mut dyn FnMut(&IterationRecord),
 ) -> Result<(Accepted, Accepted), IterationError> {
-    let StepStart {
-        history,
-        x: x0,
-        y: y0,
-        predictor,
-    } = from;
-    let n_pairs = setup.n_pairs();
     setup.lambda = at.0;
     setup.history = Some(history.to_vec());
-    let start = Start {
-        x0: x0.to_vec(),
-        y0,
-        psi_ref: Some(psi_ref),
-        predictor: Some(predictor.unwrap_or_else(|| vec![JointState::Stick; n_pairs])),
-    };
+    let start = start_after(setup, from, psi_ref);
     let (c1, r1) = solve_step(setup, start, settings, progress)?;
     let h1 = commit_history(setup, &c1);
     setup.lambda = at.1;
     setup.history = Some(h1.clone());
-    let start = Start {
-        x0: c1.x.clone(),
-        y0: Some(c1.y.clone()),
-        psi_ref: Some(psi_ref),
-        predictor: Some(c1.ev.state.clone()),
-    };
+    let start = start_after(setup, Some(&c1), psi_ref);
     let (c2, r2) = solve_step(setup, start, settings, progress)?;
     let h2 = commit_history(setup, &c2);
     Ok(((at.0, c1, r1, h1), (at.1, c2, r2, h2)))

@@ -39,9 +39,7 @@ use super::precondition::BlockPreconditioner;
 use super::release::{release_tangent, Eval, Tangent};
 use super::setup::{JointAmplitudes, Setup};
 use super::Start;
-use crate::joint_law::{
-    admissible_history_trial, admissible_piece, admissible_trial, effective_law, JointState,
-};
+use crate::joint_law::{effective_law, JointState};
 use nalgebra::Matrix3;
 use rayon::prelude::*;
 
@@ -110,14 +108,20 @@ impl<'s, 'a> Traction<'s, 'a> {
     /// At pair `k` (point i of section s) with relative displacement `d`
     /// and released traction `tau`: the traction the model carries `t`,
     /// and the point `z` the law is evaluated at.
-    fn carried(&self, k: usize, i: usize, d: [f64; 3], tau: &[f64]) -> ([f64; 3], [f64; 3]) {
-        let s = self.setup;
+    fn carried(
+        s: &Setup,
+        rho: &[[f64; 3]],
+        k: usize,
+        i: usize,
+        d: [f64; 3],
+        tau: &[f64],
+    ) -> ([f64; 3], [f64; 3]) {
         let joint = s.points[i].joint;
         let t0 = s.t0(k);
         let ka = s.model.joints[joint].assembled.traction(d);
         let h = s.history.as_ref().and_then(|h| h.get(k));
         let trial = s.trial(joint, d, h, t0);
-        let rho = self.rho[joint];
+        let rho = rho[joint];
         let t = [0, 1, 2].map(|c| t0[c] + ka[c] - tau[c]);
         let mut z = [0, 1, 2].map(|c| t[c] + rho[c] * (trial[c] - t[c]));
         if z[1].abs() <= s.tension_tol {
@@ -160,47 +164,26 @@ impl Formulation for Traction<'_, '_> {
         let s = self.setup;
         let n_p = s.points.len().max(1);
         let m = s.per_section();
-        let Eval {
-            u_s,
-            g,
-            d,
-            p,
-            state,
-            broken,
-        } = ev;
-        let u_s = &*u_s;
-        g.par_chunks_mut(m)
-            .with_min_len(s.min_len())
+        let (u_s, sections) = ev.sections_mut(m, n_p, s.min_len());
+        sections
             .zip(res.par_chunks_mut(3 * n_p))
-            .zip(broken.par_chunks_mut(n_p))
-            .zip(d.par_chunks_mut(n_p))
-            .zip(p.par_chunks_mut(n_p))
-            .zip(state.par_chunks_mut(n_p))
-            .enumerate()
-            .for_each(|(sec, (((((gs, rs), bs), ds), ps), sts))| {
-                gs.fill(0.0);
+            .for_each(|((sec, out), rs)| {
+                out.g.fill(0.0);
                 let mut fe = [0.0; 18];
-                for (i, info) in s.points.iter().enumerate() {
+                for i in 0..s.points.len() {
                     let k = sec * n_p + i;
                     let tau = &y[3 * k..3 * k + 3];
                     let dk = s.relative(i, &u_s[sec * m..(sec + 1) * m]);
-                    let (t, z) = self.carried(k, i, dk, tau);
-                    let law = &s.laws[info.joint];
-                    let h = s.history.as_ref().and_then(|h| h.get(k));
-                    let (pk, st) = match (pieces, h) {
-                        (Some(pc), Some(h)) => (admissible_piece(&effective_law(law, h), z, pc[k]), pc[k]),
-                        (Some(pc), None) => (admissible_piece(law, z, pc[k]), pc[k]),
-                        (None, Some(h)) => admissible_history_trial(law, z, h),
-                        (None, None) => admissible_trial(law, z, &mut bs[i]),
-                    };
+                    let (t, z) = Self::carried(s, &self.rho, k, i, dk, tau);
+                    let (pk, st) = s.admissible(k, i, z, pieces.map(|p| p[k]), &mut out.broken[i]);
                     let f = [0, 1, 2].map(|c| t[c] - pk[c]);
                     rs[3 * i..3 * i + 3].copy_from_slice(&f);
                     // The release in nodal form: what the model's spring and
                     // the initial traction carry minus what the law allows.
-                    s.scatter(i, [0, 1, 2].map(|c| tau[c] + f[c]), &mut fe, gs);
-                    ds[i] = dk;
-                    ps[i] = pk;
-                    sts[i] = st;
+                    s.scatter(i, [0, 1, 2].map(|c| tau[c] + f[c]), &mut fe, out.g);
+                    out.d[i] = dk;
+                    out.p[i] = pk;
+                    out.state[i] = st;
                 }
             });
     }
@@ -210,25 +193,37 @@ impl Formulation for Traction<'_, '_> {
     }
 
     fn linearize(&mut self, y: &[f64], ev: &Eval) {
-        let s = self.setup;
+        let Traction {
+            setup: s,
+            rho,
+            dvk,
+            dd,
+            dd_inv,
+            tangents,
+            pre,
+            ..
+        } = self;
+        let s = *s;
         let n_p = s.points.len().max(1);
-        let this = &*self;
-        let per: Vec<(M3, M3, M3, Tangent)> = (0..s.n_pairs())
-            .into_par_iter()
-            .map(|k| {
+        dvk.par_iter_mut()
+            .zip(dd.par_iter_mut())
+            .zip(dd_inv.par_iter_mut())
+            .zip(tangents.par_iter_mut())
+            .enumerate()
+            .for_each(|(k, (((dvk, dd), dd_inv), tangent))| {
                 let i = k % n_p;
                 let joint = s.points[i].joint;
-                let (_, z) = this.carried(k, i, ev.d[k], &y[3 * k..3 * k + 3]);
+                let (_, z) = Self::carried(s, rho, k, i, ev.d[k], &y[3 * k..3 * k + 3]);
                 let law = &s.laws[joint];
                 let e = match s.history.as_ref().and_then(|h| h.get(k)) {
                     Some(h) => release_tangent(&effective_law(law, h), z, ev.state[k]),
                     None => release_tangent(law, z, ev.state[k]),
                 }
                 .unwrap_or([[0.0; 3]; 3]);
-                let rho = this.rho[joint];
+                let rho = rho[joint];
                 let ka = s.model.joints[joint].assembled;
                 let ka = [ka.k_xi, ka.k_eta, ka.k_theta];
-                let (mut dvk, mut dd, mut dv) = ([[0.0; 3]; 3], [[0.0; 3]; 3], [[0.0; 3]; 3]);
+                let mut dv = [[0.0; 3]; 3];
                 for r in 0..3 {
                     for c in 0..3 {
                         let t = I3[r][c] - e[r][c];
@@ -238,23 +233,17 @@ impl Formulation for Traction<'_, '_> {
                     }
                 }
                 let inv = Matrix3::from_fn(|r, c| dd[r][c]).try_inverse();
-                let dd_inv = inv.map_or(I3, |m| [0, 1, 2].map(|r| [0, 1, 2].map(|c| m[(r, c)])));
-                let tangent = [0, 1, 2]
-                    .map(|r| [0, 1, 2].map(|c| (0..3).map(|q| dd_inv[r][q] * dv[q][c]).sum::<f64>()));
-                (dvk, dd, dd_inv, Some(tangent))
-            })
-            .collect();
-        for (k, (dvk, dd, dd_inv, t)) in per.into_iter().enumerate() {
-            self.dvk[k] = dvk;
-            self.dd[k] = dd;
-            self.dd_inv[k] = dd_inv;
-            self.tangents[k] = t;
-        }
+                *dd_inv = inv.map_or(I3, |m| [0, 1, 2].map(|r| [0, 1, 2].map(|c| m[(r, c)])));
+                let inv = *dd_inv;
+                *tangent = Some(
+                    [0, 1, 2].map(|r| [0, 1, 2].map(|c| (0..3).map(|q| inv[r][q] * dv[q][c]).sum::<f64>())),
+                );
+            });
         // Refactorized at every step: reusing it while the states stay the
         // same (the slip tangents move) cost 2 -> 15 load steps at
         // k_eta h / E = 1e5 on Scene P and stopped 1e6 at lambda = 0.
-        let pre = self.pre.get_or_insert_with(|| BlockPreconditioner::new(s));
-        pre.update(s, &self.tangents);
+        let pre = pre.get_or_insert_with(|| BlockPreconditioner::new(s));
+        pre.update(s, tangents);
     }
 
     fn apply_j(&self, z: &[f64], wz: &[f64], out: &mut [f64]) {
