@@ -14,16 +14,25 @@
 //! - One or two right-hand sides are interleaved and read L once; for full
 //!   solves this loop measured as fast as faer's `solve_in_place` or faster
 //!   (faer dispatches a dense kernel per supernode, and the supernodes of 2D
-//!   meshes are small).
+//!   meshes are small). Wide supernodes (at least [`DENSE_COLUMNS`]
+//!   columns to solve: the joint block, the top separators) go to faer's
+//!   dense triangular solve and product, which vectorize.
 //!
 //! A simplicial factor (faer's choice for small or very sparse matrices) is
 //! solved by faer itself.
 
 use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::matmul::matmul;
+use faer::linalg::triangular_solve::{solve_lower_triangular_in_place, solve_upper_triangular_in_place};
+use faer::reborrow::{Reborrow, ReborrowMut};
 use faer::sparse::linalg::cholesky::{
     supernodal::SymbolicSupernodalCholesky, LltRef, SymbolicCholesky, SymbolicCholeskyRaw,
 };
-use faer::{Conj, MatMut, Par};
+use faer::{Accum, Conj, MatMut, MatRef, Par};
+
+/// Supernodes with at least this many columns to solve use faer's dense
+/// kernels (vectorized); narrower ones the column loop (no call overhead).
+const DENSE_COLUMNS: usize = 32;
 
 /// Solves `L L^T x = b` in place for `K` interleaved right-hand sides on
 /// faer's supernodal lower factor `values`, for a `b` that is zero before
@@ -59,13 +68,40 @@ fn supernodal_solve<const K: usize>(
         s0 == n_s || val_ptr[s0] >= offset,
         "the factor's stored values start after the block to solve"
     );
-    // Forward: L y = b, column by column.
+    // Forward: L y = b, column by column (a wide supernode: faer's dense
+    // triangular solve and product on its block).
+    let mut tmp: Vec<f64> = Vec::new();
     for s in s0..n_s {
         let (start, c, pattern, l) = block(s);
         let nr = c + pattern.len();
         let start = start as isize - first as isize;
         let at = |i: usize| (start + i as isize) as usize;
         let x0 = (-start).max(0) as usize;
+        if c - x0 >= DENSE_COLUMNS {
+            let (w, p) = (c - x0, pattern.len());
+            let lm = MatRef::from_column_major_slice_with_stride(l, nr, c, nr);
+            let mut xc = MatMut::from_row_major_slice_mut(x[at(x0)..at(c)].as_flattened_mut(), w, K);
+            solve_lower_triangular_in_place(lm.submatrix(x0, x0, w, w), xc.rb_mut(), Par::Seq);
+            if p > 0 {
+                tmp.clear();
+                tmp.resize(p * K, 0.0);
+                let mut t = MatMut::from_row_major_slice_mut(&mut tmp, p, K);
+                matmul(
+                    t.rb_mut(),
+                    Accum::Replace,
+                    lm.submatrix(c, x0, p, w),
+                    xc.rb(),
+                    1.0,
+                    Par::Seq,
+                );
+                for (&r, ti) in pattern.iter().zip(tmp.chunks_exact(K)) {
+                    for (xk, tk) in x[r - first].iter_mut().zip(ti) {
+                        *xk -= tk;
+                    }
+                }
+            }
+            continue;
+        }
         for j in x0..c {
             let col = &l[j * nr..(j + 1) * nr];
             let d = col[j];
@@ -95,6 +131,30 @@ fn supernodal_solve<const K: usize>(
         let start = start as isize - first as isize;
         let at = |i: usize| (start + i as isize) as usize;
         let x0 = (-start).max(0) as usize;
+        if c - x0 >= DENSE_COLUMNS {
+            let (w, p) = (c - x0, pattern.len());
+            let lm = MatRef::from_column_major_slice_with_stride(l, nr, c, nr);
+            if p > 0 {
+                tmp.clear();
+                for &r in pattern {
+                    tmp.extend_from_slice(&x[r - first]);
+                }
+            }
+            let mut xc = MatMut::from_row_major_slice_mut(x[at(x0)..at(c)].as_flattened_mut(), w, K);
+            if p > 0 {
+                let t = MatRef::from_row_major_slice(&tmp, p, K);
+                matmul(
+                    xc.rb_mut(),
+                    Accum::Add,
+                    lm.submatrix(c, x0, p, w).transpose(),
+                    t,
+                    -1.0,
+                    Par::Seq,
+                );
+            }
+            solve_upper_triangular_in_place(lm.submatrix(x0, x0, w, w).transpose(), xc, Par::Seq);
+            continue;
+        }
         for j in (x0..c).rev() {
             let col = &l[j * nr..(j + 1) * nr];
             let mut acc = x[at(j)];
@@ -315,6 +375,25 @@ mod tests {
     #[test]
     fn supernodal_solve_matches_faer_and_the_matrix() {
         check(60, true);
+    }
+
+    /// The grid of [`check`] has supernodes wide enough for the dense path,
+    /// with rows below them (the product and scatter are exercised).
+    #[test]
+    fn the_grid_exercises_the_dense_path() {
+        let (n, col_ptr, row_idx, _) = grid(60);
+        let pat = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row_idx);
+        let symbolic =
+            factorize_symbolic_cholesky(pat, Side::Upper, Default::default(), Default::default()).unwrap();
+        let SymbolicCholeskyRaw::Supernodal(sym) = symbolic.raw() else {
+            panic!("supernodal storage expected");
+        };
+        let (begin, end) = (sym.supernode_begin(), sym.supernode_end());
+        let row_ptr = sym.col_ptr_for_row_idx();
+        let wide_with_rows = (0..sym.n_supernodes())
+            .filter(|&s| end[s] - begin[s] >= DENSE_COLUMNS && row_ptr[s + 1] > row_ptr[s])
+            .count();
+        assert!(wide_with_rows > 0);
     }
 
     #[test]

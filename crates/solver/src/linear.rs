@@ -251,14 +251,14 @@ impl Model {
         &self.joint_nodes
     }
 
-    /// Solves `K_m u = f` for forces `f` on the joint nodes only (each
-    /// `3 * joint_nodes().len()`, node-DOF order of [`Model::joint_nodes`])
-    /// and returns `u` at the joint nodes. The joint equations are ordered
-    /// last in the factorization, so this reads only the trailing block of
-    /// the factor: a small fraction of a full solve.
-    pub fn solve_joint(&self, factor: &HarmonicFactor, loads: &[&[f64]; 2]) -> [Vec<f64>; 2] {
+    /// Solves `K_m u = f` for forces `f` on the joint nodes only (`K`
+    /// right-hand sides, each `3 * joint_nodes().len()`, node-DOF order of
+    /// [`Model::joint_nodes`]) and returns `u` at the joint nodes. The joint
+    /// equations are ordered last in the factorization, so this reads only
+    /// the trailing block of the factor: a small fraction of a full solve.
+    pub fn solve_joint<const K: usize>(&self, factor: &HarmonicFactor, loads: &[&[f64]; K]) -> [Vec<f64>; K] {
         let nt = self.trailing.len();
-        let mut b = vec![[0.0; 2]; nt];
+        let mut b = vec![[0.0; K]; nt];
         for (j, &k) in self.joint_nodes.iter().enumerate() {
             for c in 0..3 {
                 for (e, coef) in self.dofs.terms(3 * k + c) {
@@ -270,14 +270,11 @@ impl Model {
         }
         for (bi, &e) in b.iter_mut().zip(&self.trailing) {
             if factor.pinned[e] {
-                *bi = [0.0; 2];
+                *bi = [0.0; K];
             }
         }
         solve_trailing(&factor.symbolic, &factor.values, factor.offset, &mut b);
-        let mut out = [
-            vec![0.0; 3 * self.joint_nodes.len()],
-            vec![0.0; 3 * self.joint_nodes.len()],
-        ];
+        let mut out: [Vec<f64>; K] = std::array::from_fn(|_| vec![0.0; 3 * self.joint_nodes.len()]);
         for (j, &k) in self.joint_nodes.iter().enumerate() {
             for c in 0..3 {
                 for (e, coef) in self.dofs.terms(3 * k + c) {

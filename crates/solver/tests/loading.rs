@@ -20,7 +20,7 @@
 //! `geo/pile_footing.json`. Run with `--nocapture` for the measured numbers.
 
 use axijoint_solver::driver::{face_displacement, solve_scene, LoadPath, Run};
-use axijoint_solver::scene::{JointLaw, Loading, Scene, SolverMethod, SolverSettings};
+use axijoint_solver::scene::{JointLaw, Loading, Scene, Sections, SolverMethod, SolverSettings};
 use std::f64::consts::PI;
 
 mod joint_cases;
@@ -287,6 +287,32 @@ fn stiff_scene_p(kh_over_e: f64) -> Scene {
     let f = kh_over_e * e / 0.125 / j.k_eta;
     (j.k_xi, j.k_eta, j.k_theta) = (f * j.k_xi, f * j.k_eta, f * j.k_theta);
     sc
+}
+
+/// A stiff joint with the paper's M + 1 = 5 sections over the half turn
+/// (M = 4): the circumferential motion of harmonic 4, sin(4 theta),
+/// vanishes at every section, so its spring difference cannot be released
+/// and Newton stalled at lambda = 2e-4 (ratio 4e-5). Refused before any
+/// solve, with the advice; the advice (6 sections) reaches the whole load.
+#[test]
+fn stiff_joints_with_the_papers_sections_are_refused_with_advice() {
+    let with = |n: usize| {
+        let mut sc = stiff_scene_p(12.5);
+        sc.sections = Some(Sections {
+            theta_deg: (0..n).map(|k| 180.0 * k as f64 / (n - 1) as f64).collect(),
+            count: None,
+        });
+        sc
+    };
+    let e = match solve_scene(&with(5), None, |_| {}) {
+        Ok(_) => panic!("5 sections with a stiff joint were accepted"),
+        Err(e) => e.to_string(),
+    };
+    for needle in ["joint 'pile_side' is stiff", "up to 3, not 4", "at least 6"] {
+        assert!(e.contains(needle), "{needle}: {e}");
+    }
+    let r = run(&with(6));
+    assert!(path(&r).limit.is_none(), "{:?}", path(&r).limit);
 }
 
 fn pile_end_x(r: &Run) -> f64 {

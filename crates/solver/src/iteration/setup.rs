@@ -127,6 +127,23 @@ impl<'a> Setup<'a> {
                 resolved.map_or("none".into(), |r| r.to_string()),
             )));
         }
+        // A stiff joint (assembled softer than its law, solved on its released
+        // tractions) needs every harmonic seen whole at the sections: at the
+        // paper's M + 1 the circumferential motion of harmonic M, sin(M theta),
+        // vanishes at every section, its spring difference cannot be released,
+        // and Newton stalls (Scene P from k h / E = 12.5; M + 2 converge).
+        let stiff = model.joints.iter().position(|j| j.assembled != j.springs);
+        if let Some(stiff) = stiff.and_then(|j| mesh.joints.get(j)) {
+            if m_max > 0 && resolved.is_none_or(|r| r < m_max) {
+                return Err(IterationError::Setup(format!(
+                    "joint '{}' is stiff (solved on its released tractions) and the {} sections resolve harmonics only up to {}, not {m_max}: harmonic {m_max} is not seen whole at them (at the paper's M + 1 evenly spaced sections its circumferential motion vanishes at every one), so its joint forces cannot be released; give at least {} evenly spaced sections over the half turn, or leave `sections` out (the default)",
+                    stiff.name,
+                    sections.len(),
+                    resolved.map_or("none".into(), |r| r.to_string()),
+                    m_max + 2,
+                )));
+            }
+        }
 
         // Points and joint nodes.
         let points = super::joint_point_infos(model);
@@ -361,10 +378,14 @@ impl<'a> Setup<'a> {
             .zip(&self.factor_of)
             .enumerate()
             .map(|(h, (g, factor))| {
-                let mut u = self.model.solve_joint(factor, &[&g[0], &g[1]]);
-                if !self.both[h] {
-                    u[1].fill(0.0);
-                }
+                // A harmonic without an antisymmetric family solves one family.
+                let mut u = if self.both[h] {
+                    self.model.solve_joint(factor, &[&g[0], &g[1]])
+                } else {
+                    let [s] = self.model.solve_joint(factor, &[&g[0]]);
+                    let zero = vec![0.0; s.len()];
+                    [s, zero]
+                };
                 if with_loads {
                     for (uk, u0) in u.iter_mut().zip(&self.u0[h]) {
                         for (a, b) in uk.iter_mut().zip(u0) {
@@ -384,17 +405,9 @@ impl<'a> Setup<'a> {
         self.displacements(x, false)
     }
 
-    /// Whether [`Setup::observed_displacements`] holds every harmonic.
-    pub(super) fn observes_all(&self) -> bool {
-        self.factor_of
-            .iter()
-            .all(|f| f.is_full() || f.m <= OBSERVED_UP_TO)
-    }
-
     /// [`Setup::full_displacements`] of the harmonics a load step's
-    /// `observe` sees: up to [`OBSERVED_UP_TO`] and every harmonic whose
-    /// factor is kept whole (all of them unless some factors keep only
-    /// their joint blocks).
+    /// `observe` sees before the whole load: up to [`OBSERVED_UP_TO`] (the
+    /// loaded faces' mean motion), not the back-substitutions of the others.
     pub(super) fn observed_displacements(&self, x: &[f64]) -> Displacements {
         self.displacements(x, true)
     }
@@ -404,7 +417,7 @@ impl<'a> Setup<'a> {
         let mut released = self.zero_loads();
         self.analyse(x, &mut released);
         let wanted: Vec<usize> = (0..self.loads.len())
-            .filter(|&h| !observed || self.factor_of[h].is_full() || self.loads[h].m <= OBSERVED_UP_TO)
+            .filter(|&h| !observed || self.loads[h].m <= OBSERVED_UP_TO)
             .collect();
         let harmonics = self.model.map_bounded(
             wanted.len(),

@@ -18,11 +18,12 @@
 //! when a load fails at most [`BRACKET`] (relative) or [`MIN_INCREMENT`]
 //! (absolute) above the last converged one: that load factor is the limit
 //! load factor, bracketed by the failed one; or after [`MAX_CUTBACKS`]
-//! failures in a row. With [`StepControl::check_path`] (`"auto"`) a
-//! converged step that debonded points is solved again as two halves and
-//! retried at half size when they differ by more than [`PATH_TOL`] (the
-//! path check; the first half becomes the next attempt); else the halves
-//! are kept. The first Newton step of every step and round linearizes at
+//! failures in a row. With [`StepControl::check_path`] (`"auto"`) a step
+//! is first solved only to the accuracy of the path check
+//! ([`PATH_ACCURACY`]); if points lost strength in it, it is solved again
+//! as two halves and retried at half size when they end more than
+//! [`PATH_TOL`] away from it (the first half is that attempt), else the
+//! halves are kept; if none did, it is converged the rest of the way. The first Newton step of every step and round linearizes at
 //! the last converged states (the predictor, used by the traction form).
 //!
 //! The residual ratio of every step is relative to the same reference
@@ -63,6 +64,9 @@ pub const EASY_ITERATIONS: usize = 12;
 pub const PATH_TOL: f64 = 0.01;
 /// Steps at most this long (a fraction of the load) are not path-checked.
 pub const PATH_MIN: f64 = 1.0 / 64.0;
+/// The halves of the path check are converged to `epsilon` no tighter than
+/// this times [`PATH_TOL`] (a check, not a result: they are not kept).
+pub const PATH_ACCURACY: f64 = 0.1;
 
 /// How the load is raised.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -149,9 +153,8 @@ pub struct Stepped<T> {
 
 /// Solves `loads` by proportional loading with the history law. `observe`
 /// sees the displacements and joint field of every converged step: the
-/// displacements of harmonics 0..=[`super::OBSERVED_UP_TO`] and of every harmonic
-/// whose factor is whole (all of them unless some keep only their joint
-/// block, see [`Model::joint_block`]; the others are then absent).
+/// displacements of harmonics 0..=[`super::OBSERVED_UP_TO`] (the others are
+/// absent), and of every harmonic at the step that reaches the whole load.
 #[allow(clippy::too_many_arguments)]
 pub fn stress_transfer_stepped<T>(
     model: &Model,
@@ -196,65 +199,41 @@ pub fn stress_transfer_stepped<T>(
         } else {
             lam_c + delta
         };
-        setup.lambda = target;
-        setup.history = Some(committed.clone());
         // A step the path check already solved (the first half of a
-        // rejected one) is not solved again.
-        let attempt = match reuse.take() {
-            Some(step) if (step.0 - target).abs() <= 1e-12 => Ok(step),
-            _ => {
-                let start = start_after(&setup, last.as_ref().map(|(c, _)| c), psi_ref);
-                solve_step(&mut setup, start, settings, &mut progress).map(|(conv, rounds)| {
-                    let hist = commit_history(&mut setup, &conv);
-                    (target, conv, rounds, hist)
-                })
-            }
-        };
+        // rejected one) is not solved again (but checked).
+        let solved = reuse.take().filter(|step| (step.0 - target).abs() <= 1e-12);
+        let attempt = take_step(
+            &mut setup,
+            &committed,
+            last.as_ref().map(|(c, _)| c),
+            (lam_c, target),
+            control.check_path && target - lam_c > PATH_MIN,
+            solved,
+            psi_ref,
+            settings,
+            &mut progress,
+            &mut spent,
+        );
         match attempt {
-            Ok(step) => {
-                let rounds = step.2;
-                let mut accepted = vec![step];
-                // The path check: the step against its two halves.
-                if control.check_path && rounds > 1 && target - lam_c > PATH_MIN {
-                    let mid = lam_c + 0.5 * (target - lam_c);
-                    match halves(
-                        &mut setup,
-                        &committed,
-                        last.as_ref().map(|(c, _)| c),
-                        (mid, target),
-                        psi_ref,
-                        settings,
-                        &mut progress,
-                    ) {
-                        Ok((first, second)) => {
-                            let change = path_change(&accepted[0].1.ev.u_s, &second.1.ev.u_s);
-                            if change > PATH_TOL {
-                                // The first half is the next attempt (its
-                                // solves counted when it is taken).
-                                spent += [&accepted[0].1, &second.1]
-                                    .iter()
-                                    .flat_map(|c| &c.history)
-                                    .map(|r| r.solves)
-                                    .sum::<u32>();
-                                delta = 0.5 * (target - lam_c);
-                                reuse = Some(first);
-                                continue;
-                            }
-                            spent += accepted[0].1.history.iter().map(|r| r.solves).sum::<u32>();
-                            accepted = vec![first, second];
-                        }
-                        // The halves failed where the whole step converged:
-                        // keep the whole step.
-                        Err(e) => spent += e.history().iter().map(|r| r.solves).sum::<u32>(),
-                    }
-                }
+            Ok(Taken::Rejected(first)) => {
+                delta = 0.5 * (target - lam_c);
+                reuse = Some(*first);
+            }
+            Ok(Taken::Steps(accepted)) => {
                 let mut easy = true;
                 for (target, conv, rounds, hist) in accepted {
+                    setup.history = Some(hist.clone());
                     committed = hist;
                     lam_c = target;
                     setup.lambda = target;
                     x_c.clone_from(&conv.x);
-                    let displacements = setup.observed_displacements(&x_c);
+                    // Every harmonic at the whole load (the outcome's), the
+                    // loaded faces' ones before.
+                    let displacements = if target >= 1.0 {
+                        setup.full_displacements(&x_c)
+                    } else {
+                        setup.observed_displacements(&x_c)
+                    };
                     let field = setup.field(&conv.ev);
                     let observed = observe(lam_c, &displacements, &field);
                     let (open, slip, stick) = state_counts(&conv.ev.state);
@@ -271,7 +250,7 @@ pub fn stress_transfer_stepped<T>(
                         stick,
                         observed,
                     });
-                    last = Some((conv, setup.observes_all().then_some(displacements)));
+                    last = Some((conv, (target >= 1.0).then_some(displacements)));
                     (cutbacks, spent) = (0, 0);
                 }
                 if lam_c >= 1.0 {
@@ -348,9 +327,6 @@ fn commit_history(setup: &mut Setup, conv: &Converged) -> Vec<PointHistory> {
     hist
 }
 
-/// A converged step: its load factor, solution, rounds, committed history.
-type Accepted = (f64, Converged, u32, Vec<PointHistory>);
-
 /// Where a step starts: the released forces, Newton's unknowns and (the
 /// predictor) the states of the last converged step `conv`; before the
 /// first, zero forces and every pair sticking.
@@ -364,6 +340,140 @@ fn start_after(setup: &Setup, conv: Option<&Converged>, psi_ref: f64) -> Start {
             |c| c.ev.state.clone(),
         )),
     }
+}
+
+/// A converged step: its load factor, solution, rounds, committed history.
+type Accepted = (f64, Converged, u32, Vec<PointHistory>);
+
+/// What an attempt at a step gave.
+enum Taken {
+    /// Converged steps to commit in order (the step, or its two halves).
+    Steps(Vec<Accepted>),
+    /// The path check found the step too long: its first half (converged),
+    /// the next attempt.
+    Rejected(Box<Accepted>),
+}
+
+/// One attempt at the step `at` = (from, to) load factor from the
+/// `committed` history and the last converged step `from`; `solved` is the
+/// step if the path check already solved it (the first half of a rejected
+/// one). With `check` (the path check) a new step is first solved only to
+/// the accuracy the comparison needs ([`PATH_ACCURACY`]); if points lost
+/// strength in it ([`lost_strength`]) it is compared with its two halves
+/// (solved to the full accuracy, and kept when they agree), else converged
+/// the rest of the way. `spent` adds the solves of what is not kept.
+#[allow(clippy::too_many_arguments)]
+fn take_step(
+    setup: &mut Setup,
+    committed: &[PointHistory],
+    from: Option<&Converged>,
+    at: (f64, f64),
+    check: bool,
+    solved: Option<Accepted>,
+    psi_ref: f64,
+    settings: &IterationSettings,
+    progress: &mut dyn FnMut(&IterationRecord),
+    spent: &mut u32,
+) -> Result<Taken, IterationError> {
+    let solves = |c: &Converged| c.history.iter().map(|r| r.solves).sum::<u32>();
+    let (lam_c, target) = at;
+    // The whole step, and its trial history if it is solved loosely.
+    let (whole, loose) = match solved {
+        Some(step) => (step, None),
+        None => {
+            let loose = IterationSettings {
+                epsilon: settings.epsilon.max(PATH_ACCURACY * PATH_TOL),
+                ..*settings
+            };
+            setup.lambda = target;
+            setup.history = Some(committed.to_vec());
+            let start = start_after(setup, from, psi_ref);
+            let (conv, rounds) = solve_step(setup, start, if check { &loose } else { settings }, progress)?;
+            let trial = setup.history.clone().unwrap_or_default();
+            let hist = commit_history(setup, &conv);
+            ((target, conv, rounds, hist), check.then_some(trial))
+        }
+    };
+    // The whole step kept: converged the rest of the way if it is loose and
+    // short of epsilon.
+    let keep = |setup: &mut Setup, progress: &mut dyn FnMut(&IterationRecord), whole: Accepted| {
+        let (lambda, conv, rounds, hist) = whole;
+        let short = conv.history.last().is_some_and(|r| r.ratio >= settings.epsilon);
+        match loose.filter(|_| short) {
+            Some(trial) => {
+                setup.lambda = lambda;
+                let step = polish(setup, trial, conv, rounds, psi_ref, settings, progress)?;
+                Ok(Taken::Steps(vec![step]))
+            }
+            None => Ok(Taken::Steps(vec![(lambda, conv, rounds, hist)])),
+        }
+    };
+    if !check || !lost_strength(setup, committed, &whole.3) {
+        return keep(setup, progress, whole);
+    }
+    let mid = lam_c + 0.5 * (target - lam_c);
+    match halves(setup, committed, from, (mid, target), psi_ref, settings, progress) {
+        Ok((first, second)) => {
+            *spent += solves(&whole.1);
+            if path_change(&whole.1.ev.u_s, &second.1.ev.u_s) > PATH_TOL {
+                *spent += solves(&second.1);
+                return Ok(Taken::Rejected(Box::new(first)));
+            }
+            Ok(Taken::Steps(vec![first, second]))
+        }
+        // The halves failed where the whole step converged: the whole step.
+        Err(e) => {
+            *spent += e.history().iter().map(|r| r.solves).sum::<u32>();
+            keep(setup, progress, whole)
+        }
+    }
+}
+
+/// Whether a pair debonded from `committed` to `trial` whose law had
+/// strength to lose (cohesion or tensile strength): only then does the
+/// answer depend on where in the step it debonded (a pair without either
+/// behaves the same intact or debonded once the step has converged: open
+/// in tension, friction alone in compression).
+fn lost_strength(setup: &Setup, committed: &[PointHistory], trial: &[PointHistory]) -> bool {
+    let n_p = setup.points.len().max(1);
+    committed.iter().zip(trial).enumerate().any(|(i, (c, t))| {
+        t.debonded
+            && !c.debonded
+            && match &setup.laws[setup.points[i % n_p].joint] {
+                JointLaw::MohrCoulomb(mc) => mc.cohesion > 0.0 || mc.tensile_strength > 0.0,
+                JointLaw::Linear => false,
+            }
+    })
+}
+
+/// Converges step `conv` (at `setup.lambda`, solved to a looser epsilon in
+/// `rounds` debonding rounds, leaving the `trial` history) to the accuracy
+/// of `settings`, from where it is; its history holds both.
+fn polish(
+    setup: &mut Setup,
+    trial: Vec<PointHistory>,
+    conv: Converged,
+    rounds: u32,
+    psi_ref: f64,
+    settings: &IterationSettings,
+    progress: &mut dyn FnMut(&IterationRecord),
+) -> Result<Accepted, IterationError> {
+    setup.history = Some(trial);
+    let start = Start {
+        x0: conv.x,
+        y0: Some(conv.y),
+        psi_ref: Some(psi_ref),
+        predictor: Some(conv.ev.state),
+    };
+    let mut records = conv.history;
+    let (mut conv, more) = solve_step(setup, start, settings, progress).map_err(|mut e| {
+        e.prepend_history(&records);
+        e
+    })?;
+    records.append(&mut conv.history);
+    conv.history = records;
+    let hist = commit_history(setup, &conv);
+    Ok((setup.lambda, conv, rounds + more - 1, hist))
 }
 
 /// The two halves of a step from the committed `history` and the last
