@@ -6,14 +6,14 @@
 //!   unknowns than uniform refinement (size halved until the estimate is
 //!   below 1 %), and the true error of the adapted profile is below 2 %;
 //! - Scene P bonded (`geo/pile_footing_bonded.json`) with target 1 %: the
-//!   b-b profile moves by less than 1.5 % of its max |sigma_r| against the
-//!   mesh adapted to 0.4 % (measured 1.3 %, next to the re-entrant corner
-//!   r = 0.5, z = 0, where the estimate is low by up to 2: docs/accuracy.md);
-//!   the cycle table is in summary.json and adapt.csv;
-//! - Scene P bonded with target 0.2 %, which takes two cycles: the b-b
-//!   profile moves by less than 1 % of its max |sigma_r| between the last
-//!   two cycles (measured 0.72 %; at target 1 % the run stops after one
-//!   cycle: docs/accuracy.md).
+//!   b-b profile moves by less than 1 % of its max |sigma_r| against the
+//!   mesh adapted to 0.4 %; the cycle table is in summary.json and
+//!   adapt.csv;
+//! - the check: Scene P bonded with target 1 %, the b-b profile
+//!   moves by less than 1 % of its max |sigma_r| between the last two
+//!   cycles, read from the cut CSVs of the run and of the same run stopped
+//!   one cycle earlier (the run's own stop rule asks for that change too,
+//!   measured on its samples: this checks it from the written profiles).
 
 use serde_json::Value;
 use std::path::{Path, PathBuf};
@@ -134,7 +134,12 @@ fn adaptation_reaches_the_target_with_fewer_unknowns_than_uniform_refinement() {
     );
     let csv = std::fs::read_to_string(adapted.join("adapt.csv")).unwrap();
     assert_eq!(csv.lines().count(), cycles.len() + 1);
-    assert!(csv.starts_with("cycle,nodes,dofs_per_harmonic,bore_theta0,energy_norm,seconds"));
+    assert!(
+        csv.starts_with("cycle,nodes,dofs_per_harmonic,bore_theta0,energy_norm,seconds,bore_theta0_change\n")
+    );
+    // Reached: the last cycle moved the profile by at most the target.
+    let moved = last["change"]["bore"]["0"].as_f64().unwrap();
+    assert!(moved <= target, "last change {moved}");
 }
 
 /// Scene P bonded with `mesh.adapt` {target, max_cycles} into `tmp`;
@@ -201,17 +206,17 @@ fn scene_p_bonded_adapted_to_one_percent_is_close_to_a_finer_adaptation() {
         outs.push(out);
     }
     for change in b_b_changes(&outs[0], &outs[1]) {
-        assert!(change < 0.015, "b-b change {change} of max");
+        assert!(change < 0.01, "b-b change {change} of max");
     }
 }
 
-/// The check, on a target that takes two cycles: the b-b profile of
-/// the last cycle against the cycle before it (the same run stopped one
-/// cycle earlier by max_cycles; gmsh meshes the same views alike).
+/// The check: the b-b profile of the last cycle against the cycle
+/// before it (the same run stopped one cycle earlier by max_cycles; gmsh
+/// meshes the same views alike), at target 1 %.
 #[test]
 fn scene_p_bonded_last_two_cycles_differ_by_less_than_one_percent() {
     let tmp = tempfile::tempdir().unwrap();
-    let target = 0.002;
+    let target = 0.01;
     let (last, summary) = scene_p_adapted(tmp.path(), target, 6);
     assert_eq!(
         summary["adapt"]["reached"],
