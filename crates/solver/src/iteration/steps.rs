@@ -18,7 +18,8 @@
 //! when a load fails at most [`BRACKET`] (relative) or [`MIN_INCREMENT`]
 //! (absolute) above the last converged one: that load factor is the limit
 //! load factor, bracketed by the failed one; or after [`MAX_CUTBACKS`]
-//! failures in a row. With [`StepControl::check_path`] (`"auto"`) a step
+//! failures in a row (a load that ran out of its iteration budget is first
+//! tried once more with [`CLASSIFY_BUDGET`] times it). With [`StepControl::check_path`] (`"auto"`) a step
 //! is first solved only to the accuracy of the path check
 //! ([`PATH_ACCURACY`]); if points lost strength in it, it is solved again
 //! as two halves and retried at half size when they end more than
@@ -57,6 +58,13 @@ pub const MAX_ROUNDS: u32 = 50;
 /// A converged step with at most this many iterations (Newton steps or
 /// fixed-point iterations, summed over its rounds) lets the increment grow.
 pub const EASY_ITERATIONS: usize = 12;
+
+/// A run about to stop on a load whose iteration ran out of its budget
+/// while still converging tries that load once more with this many times
+/// the budget: near the capacity Newton creeps, and the longer run either
+/// converges or shows the stall of no equilibrium (an anchor pulled at an
+/// angle: "not converged" at 500 sweeps, the stall at 1000).
+pub const CLASSIFY_BUDGET: u32 = 4;
 
 /// Largest change of the joint nodes' displacements at the sections
 /// (relative, L2) between one step and its two halves that `"auto"`
@@ -191,6 +199,8 @@ pub fn stress_transfer_stepped<T>(
     let mut failed_at: Option<f64> = None;
     let (mut cutbacks, mut spent) = (0u32, 0u32);
     let mut reuse: Option<Accepted> = None;
+    // Whether this attempt is the retry with the larger budget.
+    let mut classify = false;
     let limit = loop {
         // Within rounding of the whole load: the whole load (N steps of 1 / N
         // add up to 1 - 1e-16, and a step of that size is noise).
@@ -202,6 +212,10 @@ pub fn stress_transfer_stepped<T>(
         // A step the path check already solved (the first half of a
         // rejected one) is not solved again (but checked).
         let solved = reuse.take().filter(|step| (step.0 - target).abs() <= 1e-12);
+        let budget = IterationSettings {
+            max_iterations: settings.max_iterations.saturating_mul(CLASSIFY_BUDGET),
+            ..*settings
+        };
         let attempt = take_step(
             &mut setup,
             &committed,
@@ -210,10 +224,11 @@ pub fn stress_transfer_stepped<T>(
             control.check_path && target - lam_c > PATH_MIN,
             solved,
             psi_ref,
-            settings,
+            if classify { &budget } else { settings },
             &mut progress,
             &mut spent,
         );
+        let retried = std::mem::take(&mut classify);
         match attempt {
             Ok(Taken::Rejected(first)) => {
                 delta = 0.5 * (target - lam_c);
@@ -273,6 +288,11 @@ pub fn stress_transfer_stepped<T>(
                 failed_at = Some(failed_at.map_or(target, |f| f.min(target)));
                 let gap = target - lam_c;
                 if gap <= (BRACKET * lam_c).max(MIN_INCREMENT) || cutbacks > MAX_CUTBACKS {
+                    if !retried && matches!(e, IterationError::NotConverged { .. }) {
+                        classify = true;
+                        delta = gap;
+                        continue;
+                    }
                     break Some(LimitLoad {
                         factor: lam_c,
                         failed_at: target,
