@@ -135,12 +135,16 @@ impl<'a> Setup<'a> {
         let stiff = model.joints.iter().position(|j| j.assembled != j.springs);
         if let Some(stiff) = stiff.and_then(|j| mesh.joints.get(j)) {
             if m_max > 0 && resolved.is_none_or(|r| r < m_max) {
+                let at_least = if sections.half {
+                    format!("{} evenly spaced sections over the half turn", m_max + 2)
+                } else {
+                    format!("{} evenly spaced sections over the full turn", 2 * m_max + 1)
+                };
                 return Err(IterationError::Setup(format!(
-                    "joint '{}' is stiff (solved on its released tractions) and the {} sections resolve harmonics only up to {}, not {m_max}: harmonic {m_max} is not seen whole at them (at the paper's M + 1 evenly spaced sections its circumferential motion vanishes at every one), so its joint forces cannot be released; give at least {} evenly spaced sections over the half turn, or leave `sections` out (the default)",
+                    "joint '{}' is stiff (solved on its released tractions) and the {} sections resolve harmonics only up to {}, not {m_max}: harmonic {m_max} is not seen whole at them (at the paper's M + 1 evenly spaced sections its circumferential motion vanishes at every one), so its joint forces cannot be released; give at least {at_least}, or leave `sections` out (the default)",
                     stiff.name,
                     sections.len(),
                     resolved.map_or("none".into(), |r| r.to_string()),
-                    m_max + 2,
                 )));
             }
         }

@@ -19,13 +19,15 @@
 //! (absolute) above the last converged one: that load factor is the limit
 //! load factor, bracketed by the failed one; or after [`MAX_CUTBACKS`]
 //! failures in a row (a load that ran out of its iteration budget is first
-//! tried once more with [`CLASSIFY_BUDGET`] times it). With [`StepControl::check_path`] (`"auto"`) a step
-//! is first solved only to the accuracy of the path check
-//! ([`PATH_ACCURACY`]); if points lost strength in it, it is solved again
-//! as two halves and retried at half size when they end more than
-//! [`PATH_TOL`] away from it (the first half is that attempt), else the
-//! halves are kept; if none did, it is converged the rest of the way. The first Newton step of every step and round linearizes at
-//! the last converged states (the predictor, used by the traction form).
+//! tried once more with [`CLASSIFY_BUDGET`] times it). With
+//! [`StepControl::check_path`] (`"auto"`) a step is first solved only to
+//! the accuracy of the path check ([`PATH_ACCURACY`]); if points lost
+//! strength in it, it is solved again as two halves and retried at half
+//! size when they end more than [`PATH_TOL`] away from it (the first half
+//! is that attempt), else the halves are kept; if none did, it is
+//! converged the rest of the way. The first Newton step of every step and
+//! round linearizes at the last converged states (the predictor, used by
+//! the traction form).
 //!
 //! The residual ratio of every step is relative to the same reference
 //! ([`Setup::reference_release`]: the released forces of the elastic
@@ -72,8 +74,9 @@ pub const CLASSIFY_BUDGET: u32 = 4;
 pub const PATH_TOL: f64 = 0.01;
 /// Steps at most this long (a fraction of the load) are not path-checked.
 pub const PATH_MIN: f64 = 1.0 / 64.0;
-/// The halves of the path check are converged to `epsilon` no tighter than
-/// this times [`PATH_TOL`] (a check, not a result: they are not kept).
+/// A checked step is first converged to `epsilon` no tighter than this
+/// times [`PATH_TOL`]: enough to compare it with its halves; kept only
+/// after converging the rest of the way.
 pub const PATH_ACCURACY: f64 = 0.1;
 
 /// How the load is raised.
