@@ -37,6 +37,8 @@ pub(super) fn not_converged(
     IterationError::NotConverged {
         last: None,
         iterations: history.len() as u32,
+        solves: history.iter().map(|r| r.solves).sum(),
+        limit: settings.max_iterations,
         ratio,
         epsilon: settings.epsilon,
         history,

@@ -260,10 +260,15 @@ pub enum IterationError {
         last: Option<Box<Outcome>>,
     },
     /// The iteration limit was reached while still converging.
-    #[error("not converged in {iterations} iterations: residual ratio {ratio:.3e} > epsilon {epsilon:.1e}; it was still decreasing: raise solver.max_iterations (if it decreases ever more slowly, the load may be close to what the joints can carry)")]
+    #[error("not converged within the iteration limit {limit} ({iterations} iterations, {solves} solves): residual ratio {ratio:.3e} > epsilon {epsilon:.1e}; it was still decreasing: raise solver.max_iterations (if it decreases ever more slowly, the load may be close to what the joints can carry)")]
     NotConverged {
         /// Iterations done.
         iterations: u32,
+        /// Back-substitution sweeps done (Newton: its Krylov solves too).
+        solves: u32,
+        /// The limit: `solver.max_iterations` (newton: on its steps and its
+        /// solves), 4 times it on the retry before a stop.
+        limit: u32,
         /// Last ratio.
         ratio: f64,
         /// The target.
