@@ -435,7 +435,7 @@ fn quotes(work: &Path, mesh: &Value) -> Vec<Quote> {
         ),
         q("reached `lambda = 1`", f(&summary["load_factor"]), 0.0),
         q(
-            "It took 210 solves in all",
+            "It took 198 solves in all",
             summary["load_steps"]
                 .as_array()
                 .unwrap()

@@ -342,12 +342,15 @@ impl IterationError {
 /// unknowns of Newton's formulation there (`y0`, from the same run), the
 /// reference `Psi_0` of the residual ratio (`None`: the first residual),
 /// and the joint states Newton's first step linearizes at (`None`: those
-/// of the law at the start).
+/// of the law at the start); `u_s`, the section displacements at `x0` and
+/// the current load when a converged evaluation gave them (a new debonding
+/// round, the rest of a loose solve: Newton starts without a sweep).
 pub(super) struct Start {
     x0: Vec<f64>,
     y0: Option<Vec<f64>>,
     psi_ref: Option<f64>,
     predictor: Option<Vec<JointState>>,
+    u_s: Option<Vec<f64>>,
 }
 
 impl Start {
@@ -358,6 +361,7 @@ impl Start {
             y0: None,
             psi_ref: None,
             predictor: None,
+            u_s: None,
         }
     }
 }

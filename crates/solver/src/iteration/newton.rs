@@ -334,7 +334,20 @@ fn solve(
         form.residual(y, ev, None, res);
     };
     let mut res = vec![0.0; ny];
-    evaluate(form, &y, &mut released, &mut acc, &mut res, &mut x);
+    // The section displacements at the start, if known (no sweep).
+    let known = from.u_s.as_ref().filter(|u| u.len() == acc.u_s.len());
+    let first_solves = match known {
+        Some(u) => {
+            form.forces(&y, &mut x);
+            acc.u_s.copy_from_slice(u);
+            form.residual(&y, &mut acc, None, &mut res);
+            0
+        }
+        None => {
+            evaluate(form, &y, &mut released, &mut acc, &mut res, &mut x);
+            1
+        }
+    };
     // Whether `acc` is a true evaluation at y (not a linearized trial).
     let mut evaluated;
     let mut res_trial = vec![0.0; ny];
@@ -344,7 +357,7 @@ fn solve(
     let psi0 = from.psi_ref.unwrap_or(psi_first);
     let nothing_released = psi0 <= 1e-14 * setup.load_scale().max(f64::MIN_POSITIVE);
     let first_ratio = if nothing_released { 0.0 } else { psi_first / psi0 };
-    let record = setup.record(1, first_ratio, &acc, start, 1);
+    let record = setup.record(1, first_ratio, &acc, start, first_solves);
     progress(&record);
     let mut history = vec![record];
     if !psi_first.is_finite() {
@@ -358,7 +371,7 @@ fn solve(
         return Ok(Converged::new(x, y, acc, history));
     }
 
-    let mut total = 1u32;
+    let mut total = first_solves;
     let mut r_norm = norm(&res);
     let (mut r_prev, mut eta) = (r_norm, 0.5f64);
     let (mut best, mut best_at) = (r_norm, 1u32);

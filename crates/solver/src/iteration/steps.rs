@@ -362,6 +362,7 @@ fn start_after(setup: &Setup, conv: Option<&Converged>, psi_ref: f64) -> Start {
             || vec![JointState::Stick; setup.n_pairs()],
             |c| c.ev.state.clone(),
         )),
+        u_s: None,
     }
 }
 
@@ -487,6 +488,7 @@ fn polish(
         y0: Some(conv.y),
         psi_ref: Some(psi_ref),
         predictor: Some(conv.ev.state),
+        u_s: Some(conv.ev.u_s),
     };
     let mut records = conv.history;
     let (mut conv, more) = solve_step(setup, start, settings, progress).map_err(|mut e| {
@@ -588,6 +590,7 @@ fn solve_step(
             y0: Some(conv.y),
             psi_ref,
             predictor: Some(predictor),
+            u_s: Some(conv.ev.u_s),
         };
     }
     Err(IterationError::Rounds {
