@@ -279,6 +279,15 @@ pub fn write_last_iterate(
 /// The folder of the comparison run without joints, inside a solution folder.
 pub const WITHOUT_JOINTS: &str = "without_joints";
 
+/// `scene` without its joints (the bodies bonded): the comparison of
+/// `axijoint run`, solved into [`WITHOUT_JOINTS`].
+pub fn without_joints(scene: &Scene) -> Scene {
+    let mut bonded = scene.clone();
+    bonded.joints.clear();
+    bonded.title = format!("{} (without joints)", scene.title);
+    bonded
+}
+
 pub fn print_summary(path: &Path, scene: &Scene, header: &SolutionHeader, out: &Path) {
     println!("{}: {}", path.display(), scene.title);
     println!(
@@ -473,12 +482,8 @@ pub fn run_run(args: &RunArgs) -> Result<()> {
     // The paper's comparison (its dashed lines): the same scene bonded,
     // solved on a thread of its own meanwhile (the scene's own solve leaves
     // a core idle), into a folder beside the output and moved in after.
-    let bonded = (!loaded.joints.is_empty() && loaded.outputs.compare_without_joints).then(|| {
-        let mut bonded = loaded.clone();
-        bonded.joints.clear();
-        bonded.title = format!("{} (without joints)", loaded.title);
-        bonded
-    });
+    let bonded =
+        (!loaded.joints.is_empty() && loaded.outputs.compare_without_joints).then(|| without_joints(&loaded));
     let side = match &bonded {
         Some(_) => {
             let out = args

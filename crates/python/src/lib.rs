@@ -57,18 +57,19 @@ create_exception!(
 /// Solves a scene into the solution folder `output` and, if `report`,
 /// writes the report and `summary.json` (as `axijoint run`, which also
 /// solves the scene without joints into `output/without_joints` when
-/// `without_joints`). `scene_text` is the scene's JSON; `None` reads
+/// `without_joints`, by default the scene's `outputs.compare_without_joints`).
+/// `scene_text` is the scene's JSON; `None` reads
 /// `scene_path`, which otherwise only names it (messages, and the folder
 /// a relative `mesh.file` is resolved against).
 #[pyfunction]
-#[pyo3(signature = (scene_path, scene_text, output, report = true, without_joints = true))]
+#[pyo3(signature = (scene_path, scene_text, output, report = true, without_joints = None))]
 fn run(
     py: Python<'_>,
     scene_path: &str,
     scene_text: Option<&str>,
     output: &str,
     report: bool,
-    without_joints: bool,
+    without_joints: Option<bool>,
 ) -> PyResult<()> {
     let result = py.detach(|| {
         solve(
@@ -87,7 +88,7 @@ fn solve(
     text: Option<&str>,
     out: &Path,
     report: bool,
-    without_joints: bool,
+    without_joints: Option<bool>,
 ) -> anyhow::Result<()> {
     let scene = match text {
         Some(t) => Scene::from_str(t, path)?,
@@ -101,10 +102,8 @@ fn solve(
         }
         return Err(e);
     }
-    if without_joints && !scene.joints.is_empty() {
-        let mut bonded = scene.clone();
-        bonded.joints.clear();
-        bonded.title = format!("{} (without joints)", scene.title);
+    if without_joints.unwrap_or(scene.outputs.compare_without_joints) && !scene.joints.is_empty() {
+        let bonded = solve_cmd::without_joints(&scene);
         solve_cmd::solve_to(&bonded, &out.join(solve_cmd::WITHOUT_JOINTS), true)?;
     }
     if report {

@@ -149,3 +149,19 @@ def test_the_gil_is_released_while_solving():
     assert done and done[0].solution["mesh"]["nodes"] > 0
     # Held, the GIL would stop this loop for the whole solve.
     assert max(gaps) < 0.5 * elapsed, (max(gaps), elapsed)
+
+
+def test_the_comparison_without_joints_follows_the_scene(tmp_path):
+    """`without_joints=None` (the default) does what `axijoint run` does with
+    the scene's `outputs.compare_without_joints`; True / False override it."""
+    coarse = {"mesh.parameters.size": COARSE}
+    off = {**coarse, "outputs.compare_without_joints": False}
+    for name, overrides, flag, expected in [
+        ("default", coarse, None, True),
+        ("scene_off", off, None, False),
+        ("forced_on", off, True, True),
+        ("forced_off", coarse, False, False),
+    ]:
+        out = tmp_path / name
+        axijoint.run(SCENE, out, overrides=overrides, report=False, without_joints=flag)
+        assert (out / "without_joints" / "solution.json").is_file() == expected, name

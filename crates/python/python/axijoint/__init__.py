@@ -240,7 +240,7 @@ def run(
     overrides: Mapping[str, Any] | None = None,
     base_dir=None,
     report: bool = True,
-    without_joints: bool = True,
+    without_joints: bool | None = None,
     **kwargs,
 ) -> Result:
     """Meshes, solves and reports a scene, as `axijoint run SCENE -o OUTPUT`.
@@ -252,8 +252,9 @@ def run(
     keyword arguments are more of them, `__` standing for `.`
     (`harmonics=2`, `mesh__parameters__size=0.5`). `output`: the solution
     folder (None: a temporary one, removed with the result). `report=False`
-    skips the report (no summary.json, CSV or plots); `without_joints=False`
-    skips the comparison run without joints.
+    skips the report (no summary.json, CSV or plots); `without_joints`:
+    whether to solve the comparison run without joints (None: as the
+    scene's `outputs.compare_without_joints`, default true).
 
     A failure raises `axijoint.Error` (a subclass per exit status of the
     binary, `exit_status` set) with the binary's message. A stepped run that
