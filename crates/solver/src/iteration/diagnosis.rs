@@ -37,7 +37,7 @@ pub(super) fn not_converged(
     IterationError::NotConverged {
         last: None,
         iterations: history.len() as u32,
-        solves: history.iter().map(|r| r.solves).sum(),
+        solves: super::solves(&history),
         limit: settings.max_iterations,
         ratio,
         epsilon: settings.epsilon,

@@ -364,6 +364,24 @@ impl Start {
             u_s: None,
         }
     }
+
+    /// From converged `conv` at the same load (a new debonding round, the
+    /// rest of a loose solve): its forces, unknowns and section
+    /// displacements, the states `predictor` (`None`: its own).
+    fn resume(conv: Converged, psi_ref: Option<f64>, predictor: Option<Vec<JointState>>) -> Start {
+        Start {
+            x0: conv.x,
+            y0: Some(conv.y),
+            psi_ref,
+            predictor: Some(predictor.unwrap_or(conv.ev.state)),
+            u_s: Some(conv.ev.u_s),
+        }
+    }
+}
+
+/// The back-substitution sweeps of `history` (all harmonics' solves).
+fn solves(history: &[IterationRecord]) -> u32 {
+    history.iter().map(|r| r.solves).sum()
 }
 
 /// A stopped iteration: why, and its last iterate (released forces and

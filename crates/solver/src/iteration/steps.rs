@@ -37,8 +37,8 @@
 
 use super::setup::Setup;
 use super::{
-    fixed_point::fixed_point, newton::newton, Converged, IterationError, IterationRecord, IterationSettings,
-    Method, Outcome, Start,
+    fixed_point::fixed_point, newton::newton, solves, Converged, IterationError, IterationRecord,
+    IterationSettings, Method, Outcome, Start,
 };
 use crate::fourier::Sections;
 use crate::joint_law::{commit, exceeds_tensile_strength, state_counts, JointState, PointHistory};
@@ -260,7 +260,7 @@ pub fn stress_transfer_stepped<T>(
                     steps.push(LoadStep {
                         lambda: lam_c,
                         iterations,
-                        solves: spent + conv.history.iter().map(|r| r.solves).sum::<u32>(),
+                        solves: spent + solves(&conv.history),
                         rounds,
                         cutbacks,
                         open,
@@ -287,7 +287,7 @@ pub fn stress_transfer_stepped<T>(
             Err(IterationError::Setup(e)) => return Err(IterationError::Setup(e)),
             Err(e) => {
                 cutbacks += 1;
-                spent += e.history().iter().map(|r| r.solves).sum::<u32>();
+                spent += solves(e.history());
                 failed_at = Some(failed_at.map_or(target, |f| f.min(target)));
                 let gap = target - lam_c;
                 if gap <= (BRACKET * lam_c).max(MIN_INCREMENT) || cutbacks > MAX_CUTBACKS {
@@ -399,7 +399,6 @@ fn take_step(
     progress: &mut dyn FnMut(&IterationRecord),
     spent: &mut u32,
 ) -> Result<Taken, IterationError> {
-    let solves = |c: &Converged| c.history.iter().map(|r| r.solves).sum::<u32>();
     let (lam_c, target) = at;
     // The whole step, and its trial history if it is solved loosely.
     let (whole, loose) = match solved {
@@ -438,16 +437,16 @@ fn take_step(
     let mid = lam_c + 0.5 * (target - lam_c);
     match halves(setup, committed, from, (mid, target), psi_ref, settings, progress) {
         Ok((first, second)) => {
-            *spent += solves(&whole.1);
+            *spent += solves(&whole.1.history);
             if path_change(&whole.1.ev.u_s, &second.1.ev.u_s) > PATH_TOL {
-                *spent += solves(&second.1);
+                *spent += solves(&second.1.history);
                 return Ok(Taken::Rejected(Box::new(first)));
             }
             Ok(Taken::Steps(vec![first, second]))
         }
         // The halves failed where the whole step converged: the whole step.
         Err(e) => {
-            *spent += e.history().iter().map(|r| r.solves).sum::<u32>();
+            *spent += solves(e.history());
             keep(setup, progress, whole)
         }
     }
@@ -476,21 +475,15 @@ fn lost_strength(setup: &Setup, committed: &[PointHistory], trial: &[PointHistor
 fn polish(
     setup: &mut Setup,
     trial: Vec<PointHistory>,
-    conv: Converged,
+    mut conv: Converged,
     rounds: u32,
     psi_ref: f64,
     settings: &IterationSettings,
     progress: &mut dyn FnMut(&IterationRecord),
 ) -> Result<Accepted, IterationError> {
     setup.history = Some(trial);
-    let start = Start {
-        x0: conv.x,
-        y0: Some(conv.y),
-        psi_ref: Some(psi_ref),
-        predictor: Some(conv.ev.state),
-        u_s: Some(conv.ev.u_s),
-    };
-    let mut records = conv.history;
+    let mut records = std::mem::take(&mut conv.history);
+    let start = Start::resume(conv, Some(psi_ref), None);
     let (mut conv, more) = solve_step(setup, start, settings, progress).map_err(|mut e| {
         e.prepend_history(&records);
         e
@@ -585,13 +578,7 @@ fn solve_step(
             conv.history = records;
             return Ok((conv, round));
         }
-        start = Start {
-            x0: conv.x,
-            y0: Some(conv.y),
-            psi_ref,
-            predictor: Some(predictor),
-            u_s: Some(conv.ev.u_s),
-        };
+        start = Start::resume(conv, psi_ref, Some(predictor));
     }
     Err(IterationError::Rounds {
         rounds: MAX_ROUNDS,
