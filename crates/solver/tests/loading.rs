@@ -13,8 +13,11 @@
 //! | pure shear, T = 0 | a twisted block with no normal load, harmonics 0..=4, 0.89 T_max: the whole load in one step (round-off normal stress does not debond) | - |
 //! | N steps | `{"steps": 10}`: exactly 10 steps, the last at lambda = 1 exactly | exact |
 //! | softer reference | k_eta h / E = 2: newton (assembled with k h / E = 1, the rest released) = anderson (assembled as is) | 1e-5 |
+//! | eccentric pull at 1.3 F_1 | limit load factor `1 / 1.3` (rigid block on a Winkler joint with tensile strength T: the outermost point cracks at `F_1 = T / (1/A + e r_g / I)`, then the joint peels off), never a converged mechanism; reactions balance `lambda F` | 1 %, 1e-6 |
+//! | overturning, e = 1.2 a | no-tension joint, the load outside the contact: no equilibrium at any load factor (limit below 1e-3), stepped and one-shot | - |
 //!
-//! Scenes: `geo/block_torsion.json` (rigid block on a cohesive joint,
+//! Scenes: `geo/block_uplift.json` (rigid block on a soft joint) and
+//! `geo/block_torsion.json` (rigid block on a cohesive joint,
 //! phi = 0, so the shear strength does not depend on the axial force that
 //! the proportional loading scales too), `geo/pile_soil.json`,
 //! `geo/pile_footing.json`. Run with `--nocapture` for the measured numbers.
@@ -426,4 +429,93 @@ fn n_steps_end_exactly_at_the_whole_load() {
     let p = path(&r);
     assert_eq!(p.steps.len(), 10);
     assert_eq!(p.steps.last().map(|s| s.lambda), Some(1.0));
+}
+
+/// `geo/block_uplift.json` with the law `{C, phi = 30, T}`, harmonics
+/// 0..=8, the load `force` up the axis at eccentricity `e` towards theta = 0
+/// (a pull for `force > 0`), newton with the default steps.
+fn eccentric_block(force: f64, e: f64, c: f64, t: f64) -> Scene {
+    let mut sc = scene("block_uplift.json");
+    sc.solver = SolverSettings::default();
+    sc.harmonics = 8u32.into();
+    if let JointLaw::MohrCoulomb(mc) = &mut sc.joints.get_mut("contact").expect("joint").law {
+        mc.cohesion = c;
+        mc.tensile_strength = t;
+    }
+    let l = resultant(&mut sc);
+    l.force = [0.0, 0.0, force];
+    // My = z Fx - x Fz for Fz at x = e.
+    l.moment = [0.0, -force * e];
+    sc
+}
+
+#[test]
+fn an_eccentric_pull_beyond_the_tensile_capacity_ends_at_its_limit_not_in_a_mechanism() {
+    // Before the equilibrium check newton converged its residual in a
+    // mechanism (one point-section in compression, 509 open, |u| = 1.5e6 m)
+    // and reported the whole load with reactions of the wrong sign.
+    let (t, a) = (0.1, 0.5);
+    let e = a / 4.0;
+    // The first crack: the largest normal traction under a unit pull of
+    // the joint that never yields (its points' stresses are linear in the
+    // load), against the rigid block on a Winkler joint, T / (1/A + e r_g / I).
+    let probe = run(&eccentric_block(1.0, e, 1e9, 1e9));
+    let out = probe.outcome.as_ref().expect("a nonlinear run");
+    let sigma_1 = out.field.p.iter().map(|p| p[1]).fold(f64::MIN, f64::max);
+    let f_1 = t / sigma_1;
+    let r_g = out.field.points.iter().map(|p| p.point.r).fold(0.0, f64::max);
+    let rigid = t / (1.0 / (PI * a * a) + e * r_g / (PI * a.powi(4) / 4.0));
+    println!("first crack at {f_1:.6} MN (rigid block on Winkler springs: {rigid:.6})");
+    assert!((f_1 / rigid - 1.0).abs() < 0.01);
+    // Past it the joint peels off: the capacity is F_1 (the discrete joint
+    // survives its first cracked point-section by 0.04 %: the limit load
+    // factor is measured 0.76953 against 1 / 1.3 = 0.76923).
+    let r = run(&eccentric_block(1.3 * f_1, e, 0.1, t));
+    let limit = path(&r).limit.as_ref().expect("a limit load");
+    println!(
+        "eccentric pull at 1.3 F_1: limit load factor {:.5} (expected {:.5}), failed at {:.5}: {}",
+        limit.factor,
+        1.0 / 1.3,
+        limit.failed_at,
+        limit.reason
+    );
+    assert!(limit.beyond_capacity, "{}", limit.reason);
+    assert!((limit.factor * 1.3 - 1.0).abs() < 0.01, "limit {}", limit.factor);
+    assert!(limit.failed_at > limit.factor && limit.failed_at <= 1.01 * limit.factor + 1e-4);
+    let lambda = path(&r).reached();
+    let fz: f64 = r.linear.reactions.iter().map(|s| s.force[2]).sum();
+    assert!((fz / (lambda * 1.3 * f_1) + 1.0).abs() < 1e-6, "Fz {fz}");
+    let u_max = r
+        .linear
+        .displacements
+        .harmonics
+        .iter()
+        .flat_map(|h| h.symmetric.iter())
+        .fold(0.0f64, |m, v| m.max(v.abs()));
+    assert!(u_max < 0.01, "max |u| {u_max}");
+}
+
+#[test]
+fn compression_outside_a_no_tension_contact_has_no_equilibrium() {
+    // Before the equilibrium check: the whole load, |u| = 4.7e5 m, the
+    // reactions 12 % off.
+    for loading in [Loading::Auto, Loading::Steps(10), Loading::OneShot] {
+        let mut sc = eccentric_block(-0.1, 1.2 * 0.5, 1.0, 0.0);
+        sc.solver.loading = loading;
+        match solve_scene(&sc, None, |_| {}) {
+            Ok(r) => {
+                let limit = path(&r).limit.as_ref().expect("no equilibrium: a limit");
+                println!(
+                    "{loading:?}: limit {} failed at {}: {}",
+                    limit.factor, limit.failed_at, limit.reason
+                );
+                assert!(limit.beyond_capacity, "{loading:?}: {}", limit.reason);
+                assert!(limit.factor < 1e-3, "{loading:?}: limit {}", limit.factor);
+            }
+            Err(e) => {
+                println!("{loading:?}: {e}");
+                assert!(e.to_string().contains("no equilibrium"), "{loading:?}: {e}");
+            }
+        }
+    }
 }

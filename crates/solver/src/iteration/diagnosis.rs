@@ -1,8 +1,10 @@
 //! Why an iteration stopped: no equilibrium, a joint too stiff for the
 //! iteration, or the iteration limit.
 
+use super::release::Eval;
 use super::setup::Setup;
 use super::{IterationError, IterationRecord, IterationSettings};
+use crate::joint_law::JointState;
 
 /// The end at the iteration limit: `NotConverged`, or `StiffJoint` when the
 /// joint with the largest residual `f` is much stiffer than its elements.
@@ -186,6 +188,50 @@ pub(super) fn no_equilibrium(
         slip: last.slip,
         total: last.open + last.slip + last.stick,
         iteration: last.iteration,
+        history,
+    }
+}
+
+/// A converged state whose displacements leave `imbalance` of the load
+/// unbalanced ([`Setup::imbalance`]): no equilibrium (the joints' states
+/// make a mechanism), naming the joint with the most open or sliding
+/// pairs in `ev`.
+pub(super) fn unbalanced(
+    setup: &Setup,
+    ev: &Eval,
+    imbalance: f64,
+    history: Vec<IterationRecord>,
+) -> IterationError {
+    let n_p = setup.points.len().max(1);
+    let mut yielded = vec![0usize; setup.model.mesh.joints.len()];
+    let (mut open, mut slip) = (0, 0);
+    for (i, state) in ev.state.iter().enumerate() {
+        match state {
+            JointState::Open => open += 1,
+            JointState::Slip => slip += 1,
+            JointState::Stick => continue,
+        }
+        if let Some(y) = yielded.get_mut(setup.points[i % n_p].joint) {
+            *y += 1;
+        }
+    }
+    let worst = (0..yielded.len()).max_by_key(|&j| yielded[j]).unwrap_or(0);
+    IterationError::NoEquilibrium {
+        last: None,
+        joint: setup
+            .model
+            .mesh
+            .joints
+            .get(worst)
+            .map_or_else(|| "?".into(), |j| j.name.clone()),
+        reason: format!(
+            "the residual converged, but the reactions miss {:.1} % of the load: the open and sliding joints leave a body free to move (a mechanism), and the displacements grew until rounding made them meaningless",
+            100.0 * imbalance
+        ),
+        open,
+        slip,
+        total: ev.state.len(),
+        iteration: history.last().map_or(0, |r| r.iteration),
         history,
     }
 }

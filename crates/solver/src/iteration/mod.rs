@@ -456,7 +456,16 @@ pub fn stress_transfer_from(
         Method::Newton => newton(&setup, settings, start, &mut progress),
     };
     match result {
-        Ok(conv) => Ok(setup.finish(&conv.x, conv.ev, conv.history)),
+        Ok(conv) => {
+            let displacements = setup.full_displacements(&conv.x);
+            // A converged residual is not yet an equilibrium.
+            let imbalance = setup.imbalance(&conv.x, &displacements);
+            if imbalance > setup::IMBALANCE_TOL {
+                let e = diagnosis::unbalanced(&setup, &conv.ev, imbalance, conv.history.clone());
+                return Err(e.with_last(setup.finish_with(conv, displacements)));
+            }
+            Ok(setup.finish_with(conv, displacements))
+        }
         // The last iterate, for the user to see where it stopped (one full
         // solve).
         Err(f) => {

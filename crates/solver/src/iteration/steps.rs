@@ -35,7 +35,8 @@
 //! one-shot run), so a step is converged to the same absolute accuracy
 //! whatever its size.
 
-use super::setup::Setup;
+use super::diagnosis::unbalanced;
+use super::setup::{Setup, IMBALANCE_TOL};
 use super::{
     fixed_point::fixed_point, newton::newton, solves, Converged, IterationError, IterationRecord,
     IterationSettings, Method, Outcome, Start,
@@ -232,26 +233,36 @@ pub fn stress_transfer_stepped<T>(
             &mut spent,
         );
         let retried = std::mem::take(&mut classify);
-        match attempt {
+        let failure = match attempt {
             Ok(Taken::Rejected(first)) => {
                 delta = 0.5 * (target - lam_c);
                 reuse = Some(*first);
+                None
             }
             Ok(Taken::Steps(accepted)) => {
                 let mut easy = true;
+                let mut failed = None;
                 for (target, conv, rounds, hist) in accepted {
+                    // Every harmonic at the whole load (the outcome's), the
+                    // loaded faces' ones before.
+                    setup.lambda = target;
+                    let displacements = if target >= 1.0 {
+                        setup.full_displacements(&conv.x)
+                    } else {
+                        setup.observed_displacements(&conv.x)
+                    };
+                    // A converged residual is not yet an equilibrium.
+                    let imbalance = setup.imbalance(&conv.x, &displacements);
+                    if imbalance > IMBALANCE_TOL {
+                        setup.lambda = lam_c;
+                        let e = unbalanced(&setup, &conv.ev, imbalance, conv.history);
+                        failed = Some((target, e));
+                        break;
+                    }
                     setup.history = Some(hist.clone());
                     committed = hist;
                     lam_c = target;
-                    setup.lambda = target;
                     x_c.clone_from(&conv.x);
-                    // Every harmonic at the whole load (the outcome's), the
-                    // loaded faces' ones before.
-                    let displacements = if target >= 1.0 {
-                        setup.full_displacements(&x_c)
-                    } else {
-                        setup.observed_displacements(&x_c)
-                    };
                     let field = setup.field(&conv.ev);
                     let observed = observe(lam_c, &displacements, &field);
                     let (open, slip, stick) = state_counts(&conv.ev.state);
@@ -271,40 +282,44 @@ pub fn stress_transfer_stepped<T>(
                     last = Some((conv, (target >= 1.0).then_some(displacements)));
                     (cutbacks, spent) = (0, 0);
                 }
-                if lam_c >= 1.0 {
-                    break None;
+                if failed.is_none() {
+                    if lam_c >= 1.0 {
+                        break None;
+                    }
+                    if failed_at.is_some_and(|f| f <= lam_c) {
+                        failed_at = None;
+                    }
+                    if failed_at.is_none() && easy {
+                        delta = (2.0 * delta).min(control.max);
+                    }
+                    if let Some(f) = failed_at {
+                        delta = delta.min(f - lam_c);
+                    }
                 }
-                if failed_at.is_some_and(|f| f <= lam_c) {
-                    failed_at = None;
-                }
-                if failed_at.is_none() && easy {
-                    delta = (2.0 * delta).min(control.max);
-                }
-                if let Some(f) = failed_at {
-                    delta = delta.min(f - lam_c);
-                }
+                failed
             }
             Err(IterationError::Setup(e)) => return Err(IterationError::Setup(e)),
-            Err(e) => {
-                cutbacks += 1;
-                spent += solves(e.history());
-                failed_at = Some(failed_at.map_or(target, |f| f.min(target)));
-                let gap = target - lam_c;
-                if gap <= (BRACKET * lam_c).max(MIN_INCREMENT) || cutbacks > MAX_CUTBACKS {
-                    if !retried && matches!(e, IterationError::NotConverged { .. }) {
-                        classify = true;
-                        delta = gap;
-                        continue;
-                    }
-                    break Some(LimitLoad {
-                        factor: lam_c,
-                        failed_at: target,
-                        reason: e.to_string(),
-                        beyond_capacity: matches!(e, IterationError::NoEquilibrium { .. }),
-                    });
+            Err(e) => Some((target, e)),
+        };
+        if let Some((target, e)) = failure {
+            cutbacks += 1;
+            spent += solves(e.history());
+            failed_at = Some(failed_at.map_or(target, |f| f.min(target)));
+            let gap = target - lam_c;
+            if gap <= (BRACKET * lam_c).max(MIN_INCREMENT) || cutbacks > MAX_CUTBACKS {
+                if !retried && matches!(e, IterationError::NotConverged { .. }) {
+                    classify = true;
+                    delta = gap;
+                    continue;
                 }
-                delta = (0.5 * gap).max(MIN_INCREMENT);
+                break Some(LimitLoad {
+                    factor: lam_c,
+                    failed_at: target,
+                    reason: e.to_string(),
+                    beyond_capacity: matches!(e, IterationError::NoEquilibrium { .. }),
+                });
             }
+            delta = (0.5 * gap).max(MIN_INCREMENT);
         }
     };
 
