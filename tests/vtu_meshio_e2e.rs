@@ -1,10 +1,12 @@
 //! `field.vtu` and `field_joints.vtu` read by meshio (the interpreter of
 //! `target/venv`, made by `scripts/setup`), a reader that shares nothing
-//! with ours: Scene P run with the default outputs (raw appended zlib data,
-//! "auto" sections, the default point arrays). meshio's points, cells and
-//! every array equal `vtu::read_vtu`'s bit for bit, and the largest |u| on
-//! the rings of the 16 sections equals `solution.json`'s `max_displacement`
-//! (the solver's, over the same 16 sections).
+//! with ours: Scene P run with the default outputs (raw appended data,
+//! "auto" sections, the default point arrays), and again with
+//! `outputs.vtu_compress` (zlib blocks). meshio's points, cells and every
+//! array equal `vtu::read_vtu`'s bit for bit in both, the two encodings hold
+//! the same values, and the largest |u| on the rings of the 16 sections
+//! equals `solution.json`'s `max_displacement` (the solver's, over the same
+//! 16 sections).
 
 mod common;
 
@@ -67,8 +69,34 @@ fn f64s(path: &Path) -> Vec<f64> {
 #[test]
 fn meshio_reads_the_vtu_files() {
     let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("p");
     let scene = geo("pile_footing.json");
+    // The same scene with the compressed encoding (its mesh path absolute).
+    let mut compressed: Value = serde_json::from_str(&std::fs::read_to_string(&scene).unwrap()).unwrap();
+    compressed["mesh"]["file"] = Value::from(geo("pile_footing.geo").to_str().unwrap());
+    compressed["outputs"]["vtu_compress"] = Value::from(true);
+    let zlib_scene = dir.path().join("zlib.json");
+    std::fs::write(&zlib_scene, compressed.to_string()).unwrap();
+    let mut files = Vec::new();
+    for (name, scene, zlib) in [("raw", &scene, false), ("zlib", &zlib_scene, true)] {
+        let out = dir.path().join(name);
+        check_with_meshio(scene, &out);
+        let field = std::fs::read(out.join("field.vtu")).unwrap();
+        let named = field.windows(21).any(|w| w == b"vtkZLibDataCompressor");
+        assert_eq!(named, zlib, "{name}: the compressor attribute");
+        files.push(read_vtu(&out.join("field.vtu")).unwrap());
+    }
+    // Both encodings hold the same values.
+    let (raw, zlib) = (&files[0], &files[1]);
+    assert_eq!(raw.arrays.len(), zlib.arrays.len());
+    for (a, b) in raw.arrays.iter().zip(&zlib.arrays) {
+        assert_eq!((&a.parent, &a.name, &a.type_name), (&b.parent, &b.name, &b.type_name));
+        assert_eq!(a.bytes, b.bytes, "{}", a.name);
+    }
+}
+
+/// Runs `scene` into `out` and compares meshio's reading of its `.vtu`
+/// files with ours.
+fn check_with_meshio(scene: &Path, out: &Path) {
     let run = axijoint(&[
         "run",
         scene.to_str().unwrap(),
@@ -90,7 +118,7 @@ fn meshio_reads_the_vtu_files() {
     let script = Command::new(&py)
         .arg("-c")
         .arg(SCRIPT)
-        .arg(&out)
+        .arg(out)
         .arg(n.to_string())
         .output()
         .unwrap_or_else(|e| {

@@ -91,6 +91,16 @@ pub fn default_scene() -> Result<PathBuf> {
 
 /// Solves, writes the solution folder, prints a summary; returns the header.
 pub fn solve_and_write(scene_path: &Path, common: &CommonArgs) -> Result<(Scene, PathBuf, SolutionHeader)> {
+    solve_and_write_then(scene_path, common, &|| {})
+}
+
+/// [`solve_and_write`], calling `iterating` at every iteration record (the
+/// factors are made: the rest of the solve keeps about one core busy).
+pub fn solve_and_write_then(
+    scene_path: &Path,
+    common: &CommonArgs,
+    iterating: &dyn Fn(),
+) -> Result<(Scene, PathBuf, SolutionHeader)> {
     let scene = load_scene(scene_path, common)?;
     let out = common
         .output
@@ -99,7 +109,7 @@ pub fn solve_and_write(scene_path: &Path, common: &CommonArgs) -> Result<(Scene,
     let header = if scene.mesh.adapt.is_some() {
         adapt::solve_adaptive(&scene, &out, common.quiet)?
     } else {
-        solve_to(&scene, &out, common.quiet)?
+        solve_to_then(&scene, &out, common.quiet, iterating)?
     };
     print_summary(scene_path, &scene, &header, &out);
     Ok((scene, out, header))
@@ -121,6 +131,11 @@ pub fn solved_msh(scene: &Scene, tmp: &Path) -> PathBuf {
 
 /// Solves `scene` into the solution folder `out`.
 pub fn solve_to(scene: &Scene, out: &Path, quiet: bool) -> Result<SolutionHeader> {
+    solve_to_then(scene, out, quiet, &|| {})
+}
+
+/// [`solve_to`], calling `iterating` at every iteration record.
+pub fn solve_to_then(scene: &Scene, out: &Path, quiet: bool, iterating: &dyn Fn()) -> Result<SolutionHeader> {
     let tmp = tempfile::tempdir().context("creating a temporary folder")?;
     let msh = solved_msh(scene, tmp.path());
 
@@ -134,6 +149,7 @@ pub fn solve_to(scene: &Scene, out: &Path, quiet: bool) -> Result<SolutionHeader
         b
     };
     let progress = |r: &IterationRecord| {
+        iterating();
         bar.set_message(format!(
             "load factor {:.4}  iteration {:>4}  residual ratio {:.3e}  open {}  slip {}",
             r.load_factor, r.iteration, r.ratio, r.open, r.slip
@@ -255,6 +271,7 @@ pub fn write_last_iterate(
     header.initial = initial.map(axijoint_solver::driver::initial_info);
     header.extra = serde_json::json!({
         "converged": false,
+        "complete": false,
         "error": e.to_string(),
         "iterations": last.history.len(),
         "sections_deg": last.field.sections.theta.iter().map(|t| t.to_degrees()).collect::<Vec<_>>(),
@@ -480,8 +497,10 @@ pub fn run_run(args: &RunArgs) -> Result<()> {
         return crate::cases_cmd::run(&scene, &loaded, &args.common, true);
     }
     // The paper's comparison (its dashed lines): the same scene bonded,
-    // solved on a thread of its own meanwhile (the scene's own solve leaves
-    // a core idle), into a folder beside the output and moved in after.
+    // solved on a thread of its own into a folder beside the output and
+    // moved in after. It starts once the scene's own factors are made (its
+    // first iteration record): from there the scene's solve keeps about one
+    // core busy, before it both compete for the cores.
     let bonded =
         (!loaded.joints.is_empty() && loaded.outputs.compare_without_joints).then(|| without_joints(&loaded));
     let side = match &bonded {
@@ -504,12 +523,22 @@ pub fn run_run(args: &RunArgs) -> Result<()> {
         }
         None => None,
     };
+    let (go, ready) = std::sync::mpsc::channel::<()>();
+    let once = std::sync::Once::new();
+    let start_comparison = || {
+        once.call_once(|| {
+            let _ = go.send(());
+        })
+    };
     let (solved, comparison) = std::thread::scope(|s| {
-        let comparison = bonded
-            .as_ref()
-            .zip(side.as_ref())
-            .map(|(b, side)| s.spawn(move || solve_to(b, &side.path().join(WITHOUT_JOINTS), true)));
-        let solved = solve_and_write(&scene, &args.common);
+        let comparison = bonded.as_ref().zip(side.as_ref()).map(|(b, side)| {
+            s.spawn(move || {
+                let _ = ready.recv();
+                solve_to(b, &side.path().join(WITHOUT_JOINTS), true)
+            })
+        });
+        let solved = solve_and_write_then(&scene, &args.common, &start_comparison);
+        start_comparison();
         let comparison = comparison.map(|h| h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)));
         (solved, comparison)
     });

@@ -23,8 +23,16 @@ use axijoint_mesh::geometry::{interpolate, jacobian};
 use axijoint_mesh::quadrature::default_rule;
 use axijoint_mesh::shapes::MAX_CELL_NODES;
 use axijoint_mesh::{CellKind, Mesh};
-use axijoint_solver::elements::{c_m, stress_at};
+use axijoint_solver::elements::{c_m, StrainPoint};
 use axijoint_solver::material::Elastic;
+use rayon::prelude::*;
+
+/// The nodal values of `u` (3 per node) at `nodes`, into `out`.
+fn gather(u: &[f64], nodes: &[usize], out: &mut [f64]) {
+    for (o, &n) in out.chunks_exact_mut(3).zip(nodes) {
+        o.copy_from_slice(&u[3 * n..3 * n + 3]);
+    }
+}
 
 /// One harmonic and family of the displacement whose stresses are estimated.
 struct Mode {
@@ -125,37 +133,32 @@ impl Estimate {
             total += c.nodes.len();
         }
         offsets.push(total);
-        let elem = |cell: usize, md: &Mode, xi: [f64; 2]| -> [f64; 6] {
-            let c = &mesh.cells[cell];
-            let coords = mesh.cell_coords(c);
-            let ue: Vec<f64> = c
-                .nodes
-                .iter()
-                .flat_map(|&n| md.u[3 * n..3 * n + 3].iter().copied())
-                .collect();
-            stress_at(c.kind, &coords, &field.materials[c.body], md.m, &ue, xi)
-        };
         // Gauss data of every cell.
-        let gauss: Vec<CellGauss> = (0..mesh.cells.len())
-            .map(|cell| {
-                let c = &mesh.cells[cell];
+        let gauss: Vec<CellGauss> = mesh
+            .cells
+            .par_iter()
+            .map(|c| {
                 let coords = mesh.cell_coords(c);
                 let nn = c.kind.n_nodes();
-                let (mut n, mut dn) = ([0.0; MAX_CELL_NODES], [[0.0; 2]; MAX_CELL_NODES]);
+                let mat = &field.materials[c.body];
+                let mut ue = [0.0; 3 * MAX_CELL_NODES];
                 let mut g = CellGauss {
                     points: Vec::new(),
                     weights: Vec::new(),
                     stress: vec![Vec::new(); nm],
                 };
                 for (xi, w) in default_rule(c.kind).iter() {
-                    c.kind.eval_n(xi, &mut n[..nn]);
+                    let mut dn = [[0.0; 2]; MAX_CELL_NODES];
                     c.kind.eval_dn(xi, &mut dn[..nn]);
                     let (_, det) = jacobian(c.kind, &coords, &dn[..nn]);
-                    let x = interpolate(&coords, &n[..nn]);
-                    g.points.push(x);
-                    g.weights.push(w * det.abs() * x[0]);
+                    let point = StrainPoint::new(c.kind, &coords, xi);
+                    let mut n = [0.0; MAX_CELL_NODES];
+                    c.kind.eval_n(xi, &mut n[..nn]);
+                    g.points.push(interpolate(&coords, &n[..nn]));
+                    g.weights.push(w * det.abs() * point.r());
                     for (k, md) in modes.iter().enumerate() {
-                        g.stress[k].push(elem(cell, md, xi));
+                        gather(&md.u, &c.nodes, &mut ue);
+                        g.stress[k].push(point.stress(mat, md.m, &ue[..3 * nn]));
                     }
                 }
                 g
@@ -163,36 +166,41 @@ impl Estimate {
             .collect();
         let recovered = recover(mesh, &gauss, nm, &offsets);
         // Element errors and the norm.
-        let mut cell_error2 = vec![0.0; mesh.cells.len()];
-        let mut cell_volume = vec![0.0; mesh.cells.len()];
-        let mut norm2 = 0.0;
-        for (cell, c) in mesh.cells.iter().enumerate() {
-            let mat = &field.materials[c.body];
-            let nn = c.kind.n_nodes();
-            let mut n = [0.0; MAX_CELL_NODES];
-            let g = &gauss[cell];
-            for (q, (xi, _)) in default_rule(c.kind).iter().enumerate() {
-                c.kind.eval_n(xi, &mut n[..nn]);
-                let w = g.weights[q];
-                cell_volume[cell] += 2.0 * std::f64::consts::PI * w;
-                for (k, md) in modes.iter().enumerate() {
-                    let mut d = [0.0; 6];
-                    for (i, ni) in n[..nn].iter().enumerate() {
-                        let s = recovered[k][offsets[cell] + i];
-                        for a in 0..6 {
-                            d[a] += ni * s[a];
+        let ((cell_error2, cell_volume), cell_norm2): ((Vec<f64>, Vec<f64>), Vec<f64>) = mesh
+            .cells
+            .par_iter()
+            .enumerate()
+            .map(|(cell, c)| {
+                let mat = &field.materials[c.body];
+                let nn = c.kind.n_nodes();
+                let mut n = [0.0; MAX_CELL_NODES];
+                let g = &gauss[cell];
+                let (mut error2, mut volume, mut norm2) = (0.0, 0.0, 0.0);
+                for (q, (xi, _)) in default_rule(c.kind).iter().enumerate() {
+                    c.kind.eval_n(xi, &mut n[..nn]);
+                    let w = g.weights[q];
+                    volume += 2.0 * std::f64::consts::PI * w;
+                    for (k, md) in modes.iter().enumerate() {
+                        let mut d = [0.0; 6];
+                        for (i, ni) in n[..nn].iter().enumerate() {
+                            let s = recovered[k][offsets[cell] + i];
+                            for a in 0..6 {
+                                d[a] += ni * s[a];
+                            }
                         }
+                        let sh = g.stress[k][q];
+                        for a in 0..6 {
+                            d[a] -= sh[a];
+                        }
+                        let cm = c_m(md.m);
+                        error2 += cm * w * compliance_energy(mat, &d);
+                        norm2 += cm * w * compliance_energy(mat, &sh);
                     }
-                    let sh = g.stress[k][q];
-                    for a in 0..6 {
-                        d[a] -= sh[a];
-                    }
-                    let cm = c_m(md.m);
-                    cell_error2[cell] += cm * w * compliance_energy(mat, &d);
-                    norm2 += cm * w * compliance_energy(mat, &sh);
                 }
-            }
-        }
+                ((error2, volume), norm2)
+            })
+            .unzip();
+        let norm2 = cell_norm2.iter().sum();
         Estimate {
             modes,
             offsets,
@@ -239,6 +247,7 @@ impl Estimate {
         let nn = c.kind.n_nodes();
         let mut n = [0.0; MAX_CELL_NODES];
         c.kind.eval_n(xi, &mut n[..nn]);
+        let point = StrainPoint::new(c.kind, &coords, xi);
         let (mut rec, mut raw) = ([0.0; 6], [0.0; 6]);
         for (k, md) in self.modes.iter().enumerate() {
             let (sin, cos) = (f64::from(md.m) * theta).sin_cos();
@@ -247,12 +256,9 @@ impl Estimate {
                 (_, false) => (cos, sin),
                 (_, true) => (sin, -cos),
             };
-            let ue: Vec<f64> = c
-                .nodes
-                .iter()
-                .flat_map(|&n| md.u[3 * n..3 * n + 3].iter().copied())
-                .collect();
-            let h = stress_at(c.kind, &coords, &field.materials[c.body], md.m, &ue, xi);
+            let mut ue = [0.0; 3 * MAX_CELL_NODES];
+            gather(&md.u, &c.nodes, &mut ue);
+            let h = point.stress(&field.materials[c.body], md.m, &ue[..3 * nn]);
             for (i, ni) in n[..nn].iter().enumerate() {
                 let s = self.recovered[k][self.offsets[cell] + i];
                 for q in 0..6 {

@@ -322,7 +322,20 @@ pub fn write_report(
             let density = estimate
                 .get_or_init(|| estimate::Estimate::new(field))
                 .cell_density();
-            vtu::write_vtu_with(&path, field, n_sections, &fields, joints.as_ref(), Some(&density))?;
+            let encoding = if outputs.vtu_compress {
+                vtu::Encoding::Zlib
+            } else {
+                vtu::Encoding::Raw
+            };
+            vtu::write_vtu_with(
+                &path,
+                field,
+                n_sections,
+                &fields,
+                joints.as_ref(),
+                Some(&density),
+                encoding,
+            )?;
             let mut files = vec!["field.vtu".to_string()];
             if joints.is_some() && !saved.mesh.joints.is_empty() {
                 files.push(

@@ -76,15 +76,17 @@
 //!
 //! # Encoding
 //!
-//! VTK XML 1.0, `header_type="UInt64"`, little-endian,
-//! `compressor="vtkZLibDataCompressor"`: every `DataArray` is
+//! VTK XML 1.0, `header_type="UInt64"`, little-endian: every `DataArray` is
 //! `format="appended"` with its `offset` into `<AppendedData
-//! encoding="raw">`, whose bytes follow its `_` marker. An array there is
-//! its UInt64 header `[nb][nu][np][nc_1 .. nc_nb]` (blocks, 32 KiB block
-//! size, last block's size or 0, compressed sizes) then its zlib blocks, as
-//! VTK writes them; a quarter smaller than inline base64. [`read_vtu`] (and
-//! [`decode_array`], for one array) reads them back. Files are written under
-//! a temporary name and renamed into place; a non-finite value fails with
+//! encoding="raw">`, whose bytes follow its `_` marker. [`Encoding::Raw`]
+//! (the default) stores an array as its UInt64 byte count and its values;
+//! [`Encoding::Zlib`] names `compressor="vtkZLibDataCompressor"` and stores
+//! an array as its UInt64 header `[nb][nu][np][nc_1 .. nc_nb]` (blocks,
+//! 32 KiB block size, last block's size or 0, compressed sizes) then its
+//! zlib blocks, as VTK writes them. `connectivity` and `offsets` are Int32
+//! where they fit. [`read_vtu`] (and [`decode_array`], [`decode_raw_array`],
+//! for one array) reads them back. Files are written under a temporary
+//! name and renamed into place; a non-finite value fails with
 //! [`ReportError::NotFinite`] before anything is written.
 
 use crate::field::{Field, STRESS_NAMES};
@@ -173,11 +175,12 @@ pub fn write_vtu(
     fields: &[&str],
     joints: Option<&JointFieldFile>,
 ) -> Result<(), ReportError> {
-    write_vtu_with(path, field, n_sections, fields, joints, None)
+    write_vtu_with(path, field, n_sections, fields, joints, None, Encoding::Raw)
 }
 
 /// [`write_vtu`] with the error estimate's density per cell given
-/// (`None`: computed here), for a caller that has the estimate already.
+/// (`None`: computed here), for a caller that has the estimate already,
+/// and the arrays stored as `encoding` says.
 pub fn write_vtu_with(
     path: &Path,
     field: &Field,
@@ -185,6 +188,7 @@ pub fn write_vtu_with(
     fields: &[&str],
     joints: Option<&JointFieldFile>,
     density: Option<&[f64]>,
+    encoding: Encoding,
 ) -> Result<(), ReportError> {
     if n_sections < 3 {
         return Err(ReportError::Input(format!(
@@ -207,9 +211,9 @@ pub fn write_vtu_with(
         }
         _ => None,
     };
-    let tmp = write_temp(path, |w| solid.write(w))?;
+    let tmp = write_temp(path, |w| solid.write(w, encoding))?;
     let jtmp = match &joint_grid {
-        Some((grid, jpath)) => match write_temp(jpath, |w| grid.write(w)) {
+        Some((grid, jpath)) => match write_temp(jpath, |w| grid.write(w, encoding)) {
             Ok(t) => Some((t, jpath)),
             Err(e) => {
                 let _ = std::fs::remove_file(&tmp);
@@ -284,32 +288,97 @@ pub(crate) fn check_finite(
 // ---------------------------------------------------------------------------
 // Grid and XML.
 
+/// How the arrays of a file are stored in its appended data.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Encoding {
+    /// Each array as its byte count (UInt64) and its little-endian bytes:
+    /// the fastest to write and to read.
+    #[default]
+    Raw,
+    /// `vtkZLibDataCompressor`: each array as its UInt64 block header and
+    /// zlib blocks of 32 KiB, compressed in parallel at zlib's fastest
+    /// level (a fifth smaller for Float64 data, docs/outputs.md).
+    Zlib,
+}
+
 /// Values of a data array.
 enum Values {
     F64(Vec<f64>),
     I32(Vec<i32>),
     I64(Vec<i64>),
-    U8(Vec<u8>),
+}
+
+/// Borrowed values of a data array, as written.
+#[derive(Clone, Copy)]
+enum ValuesRef<'a> {
+    F64(&'a [f64]),
+    I32(&'a [i32]),
+    I64(&'a [i64]),
+    U8(&'a [u8]),
 }
 
 impl Values {
+    fn as_ref(&self) -> ValuesRef<'_> {
+        match self {
+            Values::F64(v) => ValuesRef::F64(v),
+            Values::I32(v) => ValuesRef::I32(v),
+            Values::I64(v) => ValuesRef::I64(v),
+        }
+    }
+}
+
+/// Writes `values` little-endian through a stack buffer (no copy of the
+/// whole array).
+fn write_le<T: Copy, const N: usize>(
+    out: &mut impl Write,
+    values: &[T],
+    bytes: impl Fn(T) -> [u8; N],
+) -> std::io::Result<()> {
+    let mut buf = [0u8; 8192];
+    for chunk in values.chunks(8192 / N) {
+        for (b, &v) in buf.chunks_exact_mut(N).zip(chunk) {
+            b.copy_from_slice(&bytes(v));
+        }
+        out.write_all(&buf[..N * chunk.len()])?;
+    }
+    Ok(())
+}
+
+impl ValuesRef<'_> {
     fn type_name(&self) -> &'static str {
         match self {
-            Values::F64(_) => "Float64",
-            Values::I32(_) => "Int32",
-            Values::I64(_) => "Int64",
-            Values::U8(_) => "UInt8",
+            ValuesRef::F64(_) => "Float64",
+            ValuesRef::I32(_) => "Int32",
+            ValuesRef::I64(_) => "Int64",
+            ValuesRef::U8(_) => "UInt8",
         }
     }
 
-    /// Little-endian bytes.
-    fn bytes(&self) -> Vec<u8> {
+    /// Size in bytes.
+    fn n_bytes(&self) -> usize {
         match self {
-            Values::F64(v) => v.iter().flat_map(|x| x.to_le_bytes()).collect(),
-            Values::I32(v) => v.iter().flat_map(|x| x.to_le_bytes()).collect(),
-            Values::I64(v) => v.iter().flat_map(|x| x.to_le_bytes()).collect(),
-            Values::U8(v) => v.clone(),
+            ValuesRef::F64(v) => 8 * v.len(),
+            ValuesRef::I32(v) => 4 * v.len(),
+            ValuesRef::I64(v) => 8 * v.len(),
+            ValuesRef::U8(v) => v.len(),
         }
+    }
+
+    /// Writes the little-endian bytes.
+    fn write(&self, out: &mut impl Write) -> std::io::Result<()> {
+        match *self {
+            ValuesRef::F64(v) => write_le(out, v, f64::to_le_bytes),
+            ValuesRef::I32(v) => write_le(out, v, i32::to_le_bytes),
+            ValuesRef::I64(v) => write_le(out, v, i64::to_le_bytes),
+            ValuesRef::U8(v) => out.write_all(v),
+        }
+    }
+
+    /// The little-endian bytes.
+    fn bytes(&self) -> Vec<u8> {
+        let mut b = Vec::with_capacity(self.n_bytes());
+        self.write(&mut b).expect("writing to a Vec");
+        b
     }
 }
 
@@ -337,6 +406,34 @@ impl Array {
     }
 }
 
+/// An array as written: its element's attributes and its values.
+struct ArrayRef<'a> {
+    name: &'static str,
+    components: usize,
+    component_names: &'static [&'static str],
+    values: ValuesRef<'a>,
+}
+
+impl<'a> ArrayRef<'a> {
+    fn of(a: &'a Array) -> ArrayRef<'a> {
+        ArrayRef {
+            name: a.name,
+            components: a.components,
+            component_names: a.component_names,
+            values: a.values.as_ref(),
+        }
+    }
+
+    fn plain(name: &'static str, components: usize, values: ValuesRef<'a>) -> ArrayRef<'a> {
+        ArrayRef {
+            name,
+            components,
+            component_names: &[],
+            values,
+        }
+    }
+}
+
 /// One unstructured piece.
 #[derive(Default)]
 struct Grid {
@@ -359,9 +456,51 @@ impl Grid {
         self.points.len() / 3
     }
 
-    fn write(&self, out: &mut impl Write) -> std::io::Result<()> {
-        // The compressed arrays, in the order of their DataArray elements.
-        let mut data = Vec::new();
+    fn write(&self, out: &mut impl Write, encoding: Encoding) -> std::io::Result<()> {
+        // Int32 cell arrays where they fit (half the bytes of Int64).
+        let small = i32::try_from(self.connectivity.len().max(self.n_points())).is_ok();
+        let narrow = |v: &[i64]| small.then(|| v.iter().map(|&x| x as i32).collect::<Vec<_>>());
+        let (connectivity, offsets) = (narrow(&self.connectivity), narrow(&self.offsets));
+        // Every array in file order, grouped by parent element.
+        let groups: [(&str, Vec<ArrayRef>); 4] = [
+            ("PointData", self.point_data.iter().map(ArrayRef::of).collect()),
+            ("CellData", self.cell_data.iter().map(ArrayRef::of).collect()),
+            (
+                "Points",
+                vec![ArrayRef::plain("Points", 3, ValuesRef::F64(&self.points))],
+            ),
+            (
+                "Cells",
+                vec![
+                    ArrayRef::plain("connectivity", 1, index(&self.connectivity, &connectivity)),
+                    ArrayRef::plain("offsets", 1, index(&self.offsets, &offsets)),
+                    ArrayRef::plain("types", 1, ValuesRef::U8(&self.types)),
+                ],
+            ),
+        ];
+        // What each array puts in the appended data, and where it starts.
+        let blocks: Vec<Option<Vec<u8>>> = groups
+            .iter()
+            .flat_map(|(_, arrays)| arrays.iter())
+            .map(|a| {
+                (encoding == Encoding::Zlib)
+                    .then(|| compress(&a.values.bytes()))
+                    .transpose()
+            })
+            .collect::<std::io::Result<_>>()?;
+        let sizes = groups
+            .iter()
+            .flat_map(|(_, arrays)| arrays.iter())
+            .zip(&blocks)
+            .map(|(a, b)| b.as_ref().map_or(8 + a.values.n_bytes(), Vec::len));
+        let offsets: Vec<usize> = sizes
+            .scan(0, |at, size| {
+                let start = *at;
+                *at += size;
+                Some(start)
+            })
+            .collect();
+
         let mut w = Writer::new_with_indent(&mut *out, b' ', 2);
         w.write_event(Event::Decl(BytesDecl::new("1.0", None, None)))?;
         let mut file = BytesStart::new("VTKFile");
@@ -369,54 +508,41 @@ impl Grid {
         file.push_attribute(("version", "1.0"));
         file.push_attribute(("byte_order", "LittleEndian"));
         file.push_attribute(("header_type", "UInt64"));
-        file.push_attribute(("compressor", "vtkZLibDataCompressor"));
+        if encoding == Encoding::Zlib {
+            file.push_attribute(("compressor", "vtkZLibDataCompressor"));
+        }
         w.write_event(Event::Start(file))?;
         w.write_event(Event::Start(BytesStart::new("UnstructuredGrid")))?;
         let mut piece = BytesStart::new("Piece");
         piece.push_attribute(("NumberOfPoints", self.n_points().to_string().as_str()));
         piece.push_attribute(("NumberOfCells", self.types.len().to_string().as_str()));
         w.write_event(Event::Start(piece))?;
-        for (tag, arrays) in [("PointData", &self.point_data), ("CellData", &self.cell_data)] {
-            let mut el = BytesStart::new(tag);
-            // The arrays ParaView shows first.
-            for (role, name) in [
-                ("Scalars", "von_mises"),
-                ("Scalars", "state"),
-                ("Scalars", "body"),
-                ("Vectors", "displacement"),
-                ("Tensors", "stress"),
-            ] {
-                let taken = el
-                    .attributes()
-                    .any(|a| a.is_ok_and(|a| a.key.as_ref() == role.as_bytes()));
-                if !taken && arrays.iter().any(|a| a.name == name) {
-                    el.push_attribute((role, name));
+        let mut at = offsets.iter();
+        for (tag, arrays) in &groups {
+            let mut el = BytesStart::new(*tag);
+            if matches!(*tag, "PointData" | "CellData") {
+                // The arrays ParaView shows first.
+                for (role, name) in [
+                    ("Scalars", "von_mises"),
+                    ("Scalars", "state"),
+                    ("Scalars", "body"),
+                    ("Vectors", "displacement"),
+                    ("Tensors", "stress"),
+                ] {
+                    let taken = el
+                        .attributes()
+                        .any(|a| a.is_ok_and(|a| a.key.as_ref() == role.as_bytes()));
+                    if !taken && arrays.iter().any(|a| a.name == name) {
+                        el.push_attribute((role, name));
+                    }
                 }
             }
             w.write_event(Event::Start(el))?;
-            for a in arrays.iter() {
-                write_array(&mut w, a, &mut data)?;
+            for a in arrays {
+                write_array_element(&mut w, a, *at.next().expect("an offset per array"))?;
             }
-            w.write_event(Event::End(BytesEnd::new(tag)))?;
+            w.write_event(Event::End(BytesEnd::new(*tag)))?;
         }
-        w.write_event(Event::Start(BytesStart::new("Points")))?;
-        write_array(&mut w, &Array::f64("Points", 3, self.points.clone()), &mut data)?;
-        w.write_event(Event::End(BytesEnd::new("Points")))?;
-        w.write_event(Event::Start(BytesStart::new("Cells")))?;
-        for (name, values) in [
-            ("connectivity", Values::I64(self.connectivity.clone())),
-            ("offsets", Values::I64(self.offsets.clone())),
-            ("types", Values::U8(self.types.clone())),
-        ] {
-            let a = Array {
-                name,
-                components: 1,
-                component_names: &[],
-                values,
-            };
-            write_array(&mut w, &a, &mut data)?;
-        }
-        w.write_event(Event::End(BytesEnd::new("Cells")))?;
         w.write_event(Event::End(BytesEnd::new("Piece")))?;
         w.write_event(Event::End(BytesEnd::new("UnstructuredGrid")))?;
         let mut appended = BytesStart::new("AppendedData");
@@ -424,14 +550,30 @@ impl Grid {
         w.write_event(Event::Start(appended))?;
         let out = w.into_inner();
         out.write_all(b"\n    _")?;
-        out.write_all(&data)?;
+        for (a, block) in groups.iter().flat_map(|(_, arrays)| arrays.iter()).zip(&blocks) {
+            match block {
+                Some(b) => out.write_all(b)?,
+                None => {
+                    out.write_all(&(a.values.n_bytes() as u64).to_le_bytes())?;
+                    a.values.write(out)?;
+                }
+            }
+        }
         out.write_all(b"\n  </AppendedData>\n</VTKFile>\n")
     }
 }
 
-/// Writes the `DataArray` element of `a` and appends its compressed bytes
-/// to `data` (its `offset` counts from the start of `data`).
-fn write_array<W: Write>(w: &mut Writer<W>, a: &Array, data: &mut Vec<u8>) -> std::io::Result<()> {
+/// An index array as Int32 where it was narrowed, else as Int64.
+fn index<'a>(wide: &'a [i64], narrow: &'a Option<Vec<i32>>) -> ValuesRef<'a> {
+    match narrow {
+        Some(v) => ValuesRef::I32(v),
+        None => ValuesRef::I64(wide),
+    }
+}
+
+/// Writes the `DataArray` element of `a`, its data at `offset` of the
+/// appended data.
+fn write_array_element<W: Write>(w: &mut Writer<W>, a: &ArrayRef, offset: usize) -> std::io::Result<()> {
     let mut el = BytesStart::new("DataArray");
     el.push_attribute(("type", a.values.type_name()));
     el.push_attribute(("Name", a.name));
@@ -445,19 +587,18 @@ fn write_array<W: Write>(w: &mut Writer<W>, a: &Array, data: &mut Vec<u8>) -> st
         el.push_attribute((k.as_str(), *v));
     }
     el.push_attribute(("format", "appended"));
-    el.push_attribute(("offset", data.len().to_string().as_str()));
-    compress(&a.values.bytes(), data)?;
+    el.push_attribute(("offset", offset.to_string().as_str()));
     w.write_event(Event::Empty(el))
 }
 
 /// Uncompressed size of a compressed block (VTK's default).
 const BLOCK: usize = 1 << 15;
 
-/// Appends `bytes` to `out` as a `vtkZLibDataCompressor` array: the UInt64
-/// header `[nb][nu][np][nc_1 .. nc_nb]`, then the zlib blocks, compressed
-/// in parallel at zlib's fastest level (Float64 data barely compresses
-/// more at the default level, docs/outputs.md).
-fn compress(bytes: &[u8], out: &mut Vec<u8>) -> std::io::Result<()> {
+/// `bytes` as a `vtkZLibDataCompressor` array: the UInt64 header
+/// `[nb][nu][np][nc_1 .. nc_nb]`, then the zlib blocks, compressed in
+/// parallel at zlib's fastest level (Float64 data barely compresses more
+/// at the default level, docs/outputs.md).
+fn compress(bytes: &[u8]) -> std::io::Result<Vec<u8>> {
     use flate2::{write::ZlibEncoder, Compression};
     use rayon::prelude::*;
     let blocks = bytes
@@ -470,9 +611,12 @@ fn compress(bytes: &[u8], out: &mut Vec<u8>) -> std::io::Result<()> {
         .collect::<std::io::Result<Vec<_>>>()?;
     let mut header: Vec<u64> = vec![blocks.len() as u64, BLOCK as u64, (bytes.len() % BLOCK) as u64];
     header.extend(blocks.iter().map(|b| b.len() as u64));
+    let mut out = Vec::with_capacity(8 * header.len() + blocks.iter().map(Vec::len).sum::<usize>());
     out.extend(header.iter().flat_map(|v| v.to_le_bytes()));
-    out.extend(blocks.concat());
-    Ok(())
+    for b in &blocks {
+        out.extend_from_slice(b);
+    }
+    Ok(out)
 }
 
 fn invalid(m: impl Into<String>) -> std::io::Error {
@@ -480,8 +624,9 @@ fn invalid(m: impl Into<String>) -> std::io::Error {
 }
 
 /// The bytes of one array of the appended data as [`write_vtu`] writes it
-/// (zlib, UInt64 header), `data` starting at the array's `offset`: the
-/// inverse of the encoding, for readers and tests without a VTK library.
+/// with [`Encoding::Zlib`] (UInt64 header, zlib blocks), `data` starting at
+/// the array's `offset`: the inverse of the encoding, for readers and tests
+/// without a VTK library.
 pub fn decode_array(data: &[u8]) -> std::io::Result<Vec<u8>> {
     use std::io::Read;
     let word = |i: usize| -> std::io::Result<usize> {
@@ -507,6 +652,18 @@ pub fn decode_array(data: &[u8]) -> std::io::Result<Vec<u8>> {
         return Err(invalid("block sizes do not match the header"));
     }
     Ok(out)
+}
+
+/// The bytes of one array of the appended data as [`write_vtu`] writes it
+/// with [`Encoding::Raw`]: its UInt64 byte count, then the bytes.
+pub fn decode_raw_array(data: &[u8]) -> std::io::Result<Vec<u8>> {
+    let n = data
+        .get(..8)
+        .ok_or_else(|| invalid("short header"))
+        .map(|b| u64::from_le_bytes(b.try_into().unwrap()) as usize)?;
+    data.get(8..8 + n)
+        .map(<[u8]>::to_vec)
+        .ok_or_else(|| invalid("short data"))
 }
 
 /// One array of a file read by [`read_vtu`].
@@ -567,7 +724,7 @@ impl VtuFile {
 }
 
 /// Reads a `.vtu` as [`write_vtu`] writes it (one piece, raw appended
-/// zlib-compressed arrays).
+/// arrays, zlib-compressed when the file names `vtkZLibDataCompressor`).
 pub fn read_vtu(path: &Path) -> std::io::Result<VtuFile> {
     let bytes = std::fs::read(path)?;
     let tag = b"<AppendedData";
@@ -597,6 +754,7 @@ pub fn read_vtu(path: &Path) -> std::io::Result<VtuFile> {
     };
     let mut reader = quick_xml::Reader::from_str(head);
     let mut parents: Vec<String> = Vec::new();
+    let mut compressed = false;
     let mut file = VtuFile {
         n_points: 0,
         n_cells: 0,
@@ -607,7 +765,13 @@ pub fn read_vtu(path: &Path) -> std::io::Result<VtuFile> {
         match &event {
             Event::Start(e) | Event::Empty(e) => {
                 let name = String::from_utf8_lossy(e.name().as_ref()).into_owned();
-                if name == "Piece" {
+                if name == "VTKFile" {
+                    compressed = match attr(e, "compressor").as_deref() {
+                        None => false,
+                        Some("vtkZLibDataCompressor") => true,
+                        Some(c) => return Err(invalid(format!("compressor {c}"))),
+                    };
+                } else if name == "Piece" {
                     file.n_points = number(e, "NumberOfPoints")?;
                     file.n_cells = number(e, "NumberOfCells")?;
                 } else if name == "DataArray" {
@@ -624,7 +788,11 @@ pub fn read_vtu(path: &Path) -> std::io::Result<VtuFile> {
                         type_name: attr(e, "type").unwrap_or_default(),
                         components: attr(e, "NumberOfComponents")
                             .map_or(Ok(1), |_| number(e, "NumberOfComponents"))?,
-                        bytes: decode_array(values)?,
+                        bytes: if compressed {
+                            decode_array(values)?
+                        } else {
+                            decode_raw_array(values)?
+                        },
                     });
                 }
                 if matches!(event, Event::Start(_)) {
@@ -691,6 +859,14 @@ impl Rings {
 
     fn len(&self) -> usize {
         self.n * (self.nodes.len() + self.mids.len())
+    }
+
+    /// `(theta, mesh nodes)` of every ring, in point order.
+    fn by_angle(&self) -> impl Iterator<Item = (f64, &[usize])> + '_ {
+        let n = self.n;
+        let full = (0..n).map(move |k| (ring_angle(k, n), self.nodes.as_slice()));
+        let half = (0..n).map(move |k| (mid_angle(k, n), self.mids.as_slice()));
+        full.chain(half)
     }
 
     /// `(mesh node, theta)` of every point, in point order.
@@ -845,13 +1021,13 @@ impl NodalStress {
         NodalStress { nc, coef }
     }
 
-    /// Averaged stress of local node `l` at `theta`.
-    fn at(&self, l: usize, theta: f64) -> [f64; 6] {
-        let m_max = (self.nc - 1) / 2;
+    /// Averaged stress of local node `l` at the angle of `basis`
+    /// ([`trig_basis`]).
+    fn at(&self, l: usize, basis: &[f64]) -> [f64; 6] {
         let mut s = [0.0; 6];
-        for (q, basis) in trig_basis(theta, m_max).enumerate() {
-            for (acc, v) in s.iter_mut().zip(self.coef[l * self.nc + q]) {
-                *acc += basis * v;
+        for (b, c) in basis.iter().zip(&self.coef[l * self.nc..(l + 1) * self.nc]) {
+            for (acc, v) in s.iter_mut().zip(c) {
+                *acc += b * v;
             }
         }
         s
@@ -859,11 +1035,26 @@ impl NodalStress {
 }
 
 /// `1, cos t, sin t, cos 2t, sin 2t, ..., cos Mt, sin Mt`.
-fn trig_basis(t: f64, m_max: usize) -> impl Iterator<Item = f64> {
-    std::iter::once(1.0).chain((1..=m_max).flat_map(move |m| {
-        let (s, c) = (m as f64 * t).sin_cos();
-        [c, s]
-    }))
+fn trig_basis(t: f64, m_max: usize) -> Vec<f64> {
+    std::iter::once(1.0)
+        .chain((1..=m_max).flat_map(move |m| {
+            let (s, c) = (m as f64 * t).sin_cos();
+            [c, s]
+        }))
+        .collect()
+}
+
+/// `(sin m t, cos m t)` for m = 0 ..= m_max ([`Displacements::at_trig`]).
+///
+/// [`Displacements::at_trig`]: axijoint_solver::solution::Displacements::at_trig
+fn trig_pairs(t: f64, m_max: usize) -> Vec<(f64, f64)> {
+    (0..=m_max).map(|m| (m as f64 * t).sin_cos()).collect()
+}
+
+/// Cartesian `(ux, uy, uz)` from `(u_r, u_z, u_theta)` at the angle whose
+/// `(sin, cos)` is `sc`.
+fn cartesian([ur, uz, ut]: [f64; 3], (s, c): (f64, f64)) -> [f64; 3] {
+    [ur * c - ut * s, ur * s + ut * c, uz]
 }
 
 /// The revolved bodies, with the point arrays `fields`.
@@ -900,32 +1091,53 @@ fn solid_grid(
         let mids: Vec<usize> = (0..mesh.nodes.len()).filter(|&i| needs_mid[i]).collect();
         let rings = Rings::new(n, g.n_points(), mesh.nodes.len(), nodes, mids);
         let nodal = needs_stress.then(|| NodalStress::new(field, body, &rings));
-        for (node, theta) in rings.points() {
-            let x = position(mesh.nodes[node], theta);
-            let u = field.displacement_xyz(node, theta);
-            let uc = field.displacement(node, theta);
-            let s = nodal
-                .as_ref()
-                .map_or([0.0; 6], |st| st.at(rings.local[node], theta));
-            let what = || {
-                format!(
-                    "a value at node {} (r = {}, z = {}) of body '{}', theta = {} deg",
-                    node,
-                    mesh.nodes[node][0],
-                    mesh.nodes[node][1],
-                    mesh.bodies[body].name,
-                    theta.to_degrees()
-                )
-            };
-            check_finite(path, &[x.as_slice(), &u, &uc, &s].concat(), what)?;
-            g.points.extend(x);
-            disp.extend(u);
-            disp_cyl.extend(uc);
-            if want("stress") {
-                stress.extend(stress_to_cartesian(s, theta));
+        let m_disp = field.u.harmonics.iter().map(|h| h.m as usize).max().unwrap_or(0);
+        let m_stress = nodal.as_ref().map_or(0, |st| (st.nc - 1) / 2);
+        // The points ring by ring: the trigonometric values once per angle.
+        let mut ring_start = g.n_points();
+        for (theta, nodes) in rings.by_angle() {
+            let (trig, basis) = (trig_pairs(theta, m_disp), trig_basis(theta, m_stress));
+            let (sc, mut finite) = (theta.sin_cos(), true);
+            for &node in nodes {
+                let p = mesh.nodes[node];
+                let x = [p[0] * sc.1, p[0] * sc.0, p[1]];
+                let uc = field.u.at_trig(node, &trig);
+                let u = cartesian(uc, sc);
+                let s = nodal
+                    .as_ref()
+                    .map_or([0.0; 6], |st| st.at(rings.local[node], &basis));
+                finite &= x.iter().chain(&u).chain(&s).all(|v| v.is_finite());
+                g.points.extend(x);
+                disp.extend(u);
+                disp_cyl.extend(uc);
+                if want("stress") {
+                    stress.extend(stress_to_cartesian(s, theta));
+                }
+                cyl.extend(s);
+                vm.push(von_mises(s));
             }
-            cyl.extend(s);
-            vm.push(von_mises(s));
+            if !finite {
+                // The first point of the ring with a value that is not.
+                let bad = (ring_start..g.n_points())
+                    .zip(nodes)
+                    .find(|&(i, _)| {
+                        let at = |v: &[f64], k: usize| v[k * i..k * i + k].iter().all(|x| x.is_finite());
+                        !(at(&g.points, 3) && at(&disp, 3) && at(&cyl, 6))
+                    })
+                    .map_or(nodes[0], |(_, &node)| node);
+                return Err(ReportError::NotFinite {
+                    path: path.to_path_buf(),
+                    what: format!(
+                        "a value at node {} (r = {}, z = {}) of body '{}', theta = {} deg",
+                        bad,
+                        mesh.nodes[bad][0],
+                        mesh.nodes[bad][1],
+                        mesh.bodies[body].name,
+                        theta.to_degrees()
+                    ),
+                });
+            }
+            ring_start = g.n_points();
         }
         debug_assert_eq!(g.n_points(), rings.base + rings.len());
         for (c, cell) in mesh.cells.iter().enumerate().filter(|(_, c)| c.body == body) {
@@ -1237,9 +1449,11 @@ mod tests {
     fn compressed_arrays_read_back() {
         for len in [0, 5, BLOCK, 2 * BLOCK, 3 * BLOCK + 17] {
             let data: Vec<u8> = (0..len).map(|i| (i * 7 % 251) as u8).collect();
-            let mut out = vec![];
-            compress(&data, &mut out).unwrap();
-            assert_eq!(decode_array(&out).unwrap(), data, "{len} bytes");
+            assert_eq!(
+                decode_array(&compress(&data).unwrap()).unwrap(),
+                data,
+                "{len} bytes"
+            );
         }
     }
 

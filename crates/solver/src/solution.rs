@@ -28,19 +28,40 @@ impl Displacements {
     pub fn at(&self, n: usize, theta: f64) -> [f64; 3] {
         let mut u = [0.0; 3];
         for h in &self.harmonics {
-            let (s, a) = (&h.symmetric[3 * n..3 * n + 3], &h.antisymmetric[3 * n..3 * n + 3]);
-            if h.m == 0 {
-                u[0] += s[0];
-                u[1] += s[1];
-                u[2] += s[2];
-                continue;
-            }
             let (sin, cos) = (f64::from(h.m) * theta).sin_cos();
-            u[0] += s[0] * cos + a[0] * sin;
-            u[1] += s[1] * cos + a[1] * sin;
-            u[2] += s[2] * sin - a[2] * cos;
+            h.add_at(n, sin, cos, &mut u);
         }
         u
+    }
+
+    /// [`Displacements::at`] with `trig[m] = (sin m theta, cos m theta)`
+    /// given, for many nodes at one angle (`trig` covers every harmonic).
+    pub fn at_trig(&self, n: usize, trig: &[(f64, f64)]) -> [f64; 3] {
+        let mut u = [0.0; 3];
+        for h in &self.harmonics {
+            let (sin, cos) = trig[h.m as usize];
+            h.add_at(n, sin, cos, &mut u);
+        }
+        u
+    }
+}
+
+impl HarmonicDisplacement {
+    /// Adds this harmonic's `(u_r, u_z, u_theta)` of node `n` at the angle
+    /// whose `sin m theta`, `cos m theta` are given.
+    #[inline]
+    fn add_at(&self, n: usize, sin: f64, cos: f64, u: &mut [f64; 3]) {
+        let s = &self.symmetric[3 * n..3 * n + 3];
+        if self.m == 0 {
+            u[0] += s[0];
+            u[1] += s[1];
+            u[2] += s[2];
+            return;
+        }
+        let a = &self.antisymmetric[3 * n..3 * n + 3];
+        u[0] += s[0] * cos + a[0] * sin;
+        u[1] += s[1] * cos + a[1] * sin;
+        u[2] += s[2] * sin - a[2] * cos;
     }
 }
 

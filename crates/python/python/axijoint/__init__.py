@@ -169,7 +169,7 @@ class Result:
 
     @property
     def complete(self) -> bool:
-        """False when a stepped run stopped short of the whole load."""
+        """False when a stepped run stopped short of the whole load, or a one-shot run stopped."""
         return self.solution.get("extra", {}).get("complete", True) is not False
 
     @property

@@ -28,7 +28,7 @@ pub use joint::{
 };
 pub use solid::{
     b_matrix, b_matrix_on_axis, body_force_load, solid_stiffness, solid_stiffness_terms, strain_at,
-    stress_at, stress_forces, SolidScratch, STRESS_NAMES,
+    stress_at, stress_forces, SolidScratch, StrainPoint, STRESS_NAMES,
 };
 pub use traction::edge_load;
 

@@ -352,45 +352,89 @@ pub const STRESS_NAMES: [&str; 6] = [
 /// For m = 0 they give `e_th = du/dr` (equal to `e_r` on the axis) and
 /// `g_rth = 0`, as symmetry requires.
 pub fn strain_at(kind: CellKind, coords: &[[f64; 2]], m: u32, u_elem: &[f64], xi: [f64; 2]) -> [f64; 6] {
-    let nn = kind.n_nodes();
-    let (mut n, mut dn, mut drz) = (
-        [0.0; MAX_CELL_NODES],
-        [[0.0; 2]; MAX_CELL_NODES],
-        [[0.0; 2]; MAX_CELL_NODES],
-    );
-    kind.eval_n(xi, &mut n);
-    kind.eval_dn(xi, &mut dn);
-    let (jac, det) = jacobian(kind, coords, &dn);
-    derivatives_rz(&jac, det, &dn[..nn], &mut drz[..nn]);
-    let r = interpolate(&coords[..nn], &n[..nn])[0];
-    // f[c] = [value, d/dr, d/dz] of component c = u, v, w
-    let mut f = [[0.0; 3]; 3];
-    for i in 0..nn {
-        for (c, fc) in f.iter_mut().enumerate() {
-            let ui = u_elem[DOF_PER_NODE * i + c];
-            fc[0] += n[i] * ui;
-            fc[1] += drz[i][0] * ui;
-            fc[2] += drz[i][1] * ui;
+    StrainPoint::new(kind, coords, xi).strain(m, u_elem)
+}
+
+/// One reference point of a cell, prepared for the strains and stresses of
+/// many displacement fields there (harmonics, families, load cases):
+/// [`strain_at`] without evaluating the shape functions and the Jacobian
+/// again for each.
+#[derive(Clone, Copy, Debug)]
+pub struct StrainPoint {
+    nn: usize,
+    n: [f64; MAX_CELL_NODES],
+    drz: [[f64; 2]; MAX_CELL_NODES],
+    r: f64,
+    on_axis: bool,
+}
+
+impl StrainPoint {
+    /// The point `xi` of the cell `kind` with nodes at `coords`.
+    pub fn new(kind: CellKind, coords: &[[f64; 2]], xi: [f64; 2]) -> StrainPoint {
+        let nn = kind.n_nodes();
+        let (mut n, mut dn, mut drz) = (
+            [0.0; MAX_CELL_NODES],
+            [[0.0; 2]; MAX_CELL_NODES],
+            [[0.0; 2]; MAX_CELL_NODES],
+        );
+        kind.eval_n(xi, &mut n);
+        kind.eval_dn(xi, &mut dn);
+        let (jac, det) = jacobian(kind, coords, &dn);
+        derivatives_rz(&jac, det, &dn[..nn], &mut drz[..nn]);
+        let r = interpolate(&coords[..nn], &n[..nn])[0];
+        let (lo, hi) =
+            coords[..nn]
+                .iter()
+                .fold(([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]), |(lo, hi), x| {
+                    (
+                        [lo[0].min(x[0]), lo[1].min(x[1])],
+                        [hi[0].max(x[0]), hi[1].max(x[1])],
+                    )
+                });
+        let h = (hi[0] - lo[0]).hypot(hi[1] - lo[1]);
+        StrainPoint {
+            nn,
+            n,
+            drz,
+            r,
+            on_axis: r.abs() <= AXIS_TOL * h,
         }
     }
-    let [[u, u_r, u_z], [v, v_r, v_z], [w, w_r, w_z]] = f;
-    let mf = f64::from(m);
-    let (lo, hi) = coords[..nn]
-        .iter()
-        .fold(([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]), |(lo, hi), x| {
-            (
-                [lo[0].min(x[0]), lo[1].min(x[1])],
-                [hi[0].max(x[0]), hi[1].max(x[1])],
-            )
-        });
-    let h = (hi[0] - lo[0]).hypot(hi[1] - lo[1]);
-    // (u + m w)/r, (w + m u)/r, m v / r
-    let (hoop_u, hoop_w, hoop_v) = if r.abs() <= AXIS_TOL * h {
-        (u_r + mf * w_r, w_r + mf * u_r, mf * v_r)
-    } else {
-        ((u + mf * w) / r, (w + mf * u) / r, mf * v / r)
-    };
-    [u_r, v_z, hoop_u, u_z + v_r, w_r - hoop_w, w_z - hoop_v]
+
+    /// Strain amplitudes of harmonic `m` of the nodal displacements
+    /// `u_elem` (as [`strain_at`]).
+    pub fn strain(&self, m: u32, u_elem: &[f64]) -> [f64; 6] {
+        // f[c] = [value, d/dr, d/dz] of component c = u, v, w
+        let mut f = [[0.0; 3]; 3];
+        for i in 0..self.nn {
+            for (c, fc) in f.iter_mut().enumerate() {
+                let ui = u_elem[DOF_PER_NODE * i + c];
+                fc[0] += self.n[i] * ui;
+                fc[1] += self.drz[i][0] * ui;
+                fc[2] += self.drz[i][1] * ui;
+            }
+        }
+        let [[u, u_r, u_z], [v, v_r, v_z], [w, w_r, w_z]] = f;
+        let (mf, r) = (f64::from(m), self.r);
+        // (u + m w)/r, (w + m u)/r, m v / r
+        let (hoop_u, hoop_w, hoop_v) = if self.on_axis {
+            (u_r + mf * w_r, w_r + mf * u_r, mf * v_r)
+        } else {
+            ((u + mf * w) / r, (w + mf * u) / r, mf * v / r)
+        };
+        [u_r, v_z, hoop_u, u_z + v_r, w_r - hoop_w, w_z - hoop_v]
+    }
+
+    /// Stress amplitudes `D eps` (as [`stress_at`]).
+    pub fn stress(&self, mat: &Elastic, m: u32, u_elem: &[f64]) -> [f64; 6] {
+        let eps = nalgebra::SVector::<f64, 6>::from(self.strain(m, u_elem));
+        (mat.d_matrix() * eps).into()
+    }
+
+    /// The point's radius.
+    pub fn r(&self) -> f64 {
+        self.r
+    }
 }
 
 /// Stress amplitudes `D eps` in the order `(s_r, s_z, s_th, t_rz, t_rth,
@@ -404,6 +448,5 @@ pub fn stress_at(
     u_elem: &[f64],
     xi: [f64; 2],
 ) -> [f64; 6] {
-    let eps = nalgebra::SVector::<f64, 6>::from(strain_at(kind, coords, m, u_elem, xi));
-    (mat.d_matrix() * eps).into()
+    StrainPoint::new(kind, coords, xi).stress(mat, m, u_elem)
 }

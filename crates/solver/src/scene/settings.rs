@@ -541,6 +541,10 @@ pub struct Outputs {
     /// Point arrays of `field.vtu`, from [`Outputs::VTU_FIELDS`].
     #[serde(default = "Outputs::default_vtu_fields")]
     pub vtu_fields: Vec<String>,
+    /// zlib-compressed `.vtu` arrays (a fifth smaller, about twice the
+    /// time of writing them raw; docs/outputs.md).
+    #[serde(default)]
+    pub vtu_compress: bool,
     /// gmsh post-processing view of the meridional fields at the cuts' angles.
     #[serde(default = "yes")]
     pub gmsh_views: bool,
@@ -620,6 +624,7 @@ impl Default for Outputs {
             vtu: true,
             vtu_sections: VtuSections::Auto,
             vtu_fields: Outputs::default_vtu_fields(),
+            vtu_compress: false,
             gmsh_views: true,
         }
     }
