@@ -89,7 +89,10 @@ fn meshio_reads_the_vtu_files() {
     let (raw, zlib) = (&files[0], &files[1]);
     assert_eq!(raw.arrays.len(), zlib.arrays.len());
     for (a, b) in raw.arrays.iter().zip(&zlib.arrays) {
-        assert_eq!((&a.parent, &a.name, &a.type_name), (&b.parent, &b.name, &b.type_name));
+        assert_eq!(
+            (&a.parent, &a.name, &a.type_name),
+            (&b.parent, &b.name, &b.type_name)
+        );
         assert_eq!(a.bytes, b.bytes, "{}", a.name);
     }
 }

@@ -1,9 +1,10 @@
 //! The solution as a field: locate points in the meridional mesh and
 //! synthesize displacements and stresses at any theta, body by body.
 
+use axijoint_mesh::shapes::MAX_CELL_NODES;
 use axijoint_mesh::{geometry::jacobian, CellKind, Mesh};
 use axijoint_solver::driver::Displacements;
-use axijoint_solver::elements::stress_at;
+use axijoint_solver::elements::StrainPoint;
 use axijoint_solver::material::Elastic;
 use axijoint_solver::scene::InitialStress;
 use rstar::{RTree, RTreeObject, AABB};
@@ -208,37 +209,56 @@ impl Field<'_> {
 
     /// The stress of the displacements `u` alone.
     fn stress_of(&self, u: &Displacements, cell: usize, xi: [f64; 2], theta: f64) -> [f64; 6] {
-        let c = &self.mesh.cells[cell];
-        let coords: Vec<[f64; 2]> = c.nodes.iter().map(|&n| self.mesh.nodes[n]).collect();
-        let mat = &self.materials[c.body];
-        let mut ue = vec![0.0; 3 * c.nodes.len()];
         let mut out = [0.0; 6];
+        self.each_stress(u, cell, xi, |m, anti, s| {
+            let (sin, cos) = (f64::from(m) * theta).sin_cos();
+            let (a, b) = match (m, anti) {
+                (0, _) => (1.0, 1.0),
+                (_, false) => (cos, sin),
+                (_, true) => (sin, -cos),
+            };
+            for k in 0..4 {
+                out[k] += a * s[k];
+            }
+            out[4] += b * s[4];
+            out[5] += b * s[5];
+        });
+        out
+    }
+
+    /// Calls `f(m, antisymmetric, stress amplitude)` for every harmonic and
+    /// family of `u` with a displacement on `cell` (the shape functions and
+    /// the Jacobian at `xi` evaluated once).
+    fn each_stress(
+        &self,
+        u: &Displacements,
+        cell: usize,
+        xi: [f64; 2],
+        mut f: impl FnMut(u32, bool, [f64; 6]),
+    ) {
+        let c = &self.mesh.cells[cell];
+        let mut coords = [[0.0; 2]; MAX_CELL_NODES];
+        for (x, &n) in coords.iter_mut().zip(&c.nodes) {
+            *x = self.mesh.nodes[n];
+        }
+        let nn = c.nodes.len();
+        let point = StrainPoint::new(c.kind, &coords[..nn], xi);
+        let mat = &self.materials[c.body];
+        let mut ue = [0.0; 3 * MAX_CELL_NODES];
         for h in &u.harmonics {
-            let (sin, cos) = (f64::from(h.m) * theta).sin_cos();
-            for (amp, in_plane, shear_theta) in [(&h.symmetric, cos, sin), (&h.antisymmetric, sin, -cos)] {
-                let (a, b) = if h.m == 0 {
-                    (1.0, 1.0)
-                } else {
-                    (in_plane, shear_theta)
-                };
-                if (a == 0.0 && b == 0.0) || (h.m == 0 && std::ptr::eq(amp, &h.antisymmetric)) {
+            for (amp, anti) in [(&h.symmetric, false), (&h.antisymmetric, true)] {
+                if h.m == 0 && anti {
                     continue;
                 }
-                for (i, &n) in c.nodes.iter().enumerate() {
-                    ue[3 * i..3 * i + 3].copy_from_slice(&amp[3 * n..3 * n + 3]);
+                for (e, &n) in ue.chunks_exact_mut(3).zip(&c.nodes) {
+                    e.copy_from_slice(&amp[3 * n..3 * n + 3]);
                 }
-                if ue.iter().all(|&v| v == 0.0) {
+                if ue[..3 * nn].iter().all(|&v| v == 0.0) {
                     continue;
                 }
-                let s = stress_at(c.kind, &coords, mat, h.m, &ue, xi);
-                for k in 0..4 {
-                    out[k] += a * s[k];
-                }
-                out[4] += b * s[4];
-                out[5] += b * s[5];
+                f(h.m, anti, point.stress(mat, h.m, &ue[..3 * nn]));
             }
         }
-        out
     }
 
     /// The initial stress `sigma_0` of `init` at `xi` of `cell` (zero where
@@ -283,43 +303,27 @@ impl Field<'_> {
     /// with theta with sin, for the symmetric family; the other way round,
     /// the shears negated, for the antisymmetric one).
     fn add_coefficients(&self, u: &Displacements, cell: usize, xi: [f64; 2], out: &mut Vec<[f64; 6]>) {
-        let c = &self.mesh.cells[cell];
-        let coords: Vec<[f64; 2]> = c.nodes.iter().map(|&n| self.mesh.nodes[n]).collect();
-        let mat = &self.materials[c.body];
-        let mut ue = vec![0.0; 3 * c.nodes.len()];
-        for h in &u.harmonics {
-            let m = h.m as usize;
-            for (amp, anti) in [(&h.symmetric, false), (&h.antisymmetric, true)] {
-                if m == 0 && anti {
-                    continue;
-                }
-                for (i, &n) in c.nodes.iter().enumerate() {
-                    ue[3 * i..3 * i + 3].copy_from_slice(&amp[3 * n..3 * n + 3]);
-                }
-                if ue.iter().all(|&v| v == 0.0) {
-                    continue;
-                }
-                let s = stress_at(c.kind, &coords, mat, h.m, &ue, xi);
-                if out.len() < 2 * m + 1 {
-                    out.resize(2 * m + 1, [0.0; 6]);
-                }
-                if m == 0 {
-                    for (o, v) in out[0].iter_mut().zip(s) {
-                        *o += v;
-                    }
-                    continue;
-                }
-                let (cos, sin) = (2 * m - 1, 2 * m);
-                let (in_plane, shear) = if anti { (sin, cos) } else { (cos, sin) };
-                let sign = if anti { -1.0 } else { 1.0 };
-                for k in 0..4 {
-                    out[in_plane][k] += s[k];
-                }
-                for k in 4..6 {
-                    out[shear][k] += sign * s[k];
-                }
+        self.each_stress(u, cell, xi, |m, anti, s| {
+            let m = m as usize;
+            if out.len() < 2 * m + 1 {
+                out.resize(2 * m + 1, [0.0; 6]);
             }
-        }
+            if m == 0 {
+                for (o, v) in out[0].iter_mut().zip(s) {
+                    *o += v;
+                }
+                return;
+            }
+            let (cos, sin) = (2 * m - 1, 2 * m);
+            let (in_plane, shear) = if anti { (sin, cos) } else { (cos, sin) };
+            let sign = if anti { -1.0 } else { 1.0 };
+            for k in 0..4 {
+                out[in_plane][k] += s[k];
+            }
+            for k in 4..6 {
+                out[shear][k] += sign * s[k];
+            }
+        });
     }
 
     /// Stress at the nodes of each cell, `(cell, local node) -> stress`:

@@ -319,9 +319,11 @@ pub fn write_report(
                 }
             };
             let fields: Vec<&str> = outputs.vtu_fields.iter().map(String::as_str).collect();
-            let density = estimate
-                .get_or_init(|| estimate::Estimate::new(field))
-                .cell_density();
+            let density = || {
+                estimate
+                    .get_or_init(|| estimate::Estimate::new(field))
+                    .cell_density()
+            };
             let encoding = if outputs.vtu_compress {
                 vtu::Encoding::Zlib
             } else {
@@ -333,7 +335,7 @@ pub fn write_report(
                 n_sections,
                 &fields,
                 joints.as_ref(),
-                Some(&density),
+                &density,
                 encoding,
             )?;
             let mut files = vec!["field.vtu".to_string()];

@@ -175,19 +175,21 @@ pub fn write_vtu(
     fields: &[&str],
     joints: Option<&JointFieldFile>,
 ) -> Result<(), ReportError> {
-    write_vtu_with(path, field, n_sections, fields, joints, None, Encoding::Raw)
+    let density = || crate::estimate::Estimate::new(field).cell_density();
+    write_vtu_with(path, field, n_sections, fields, joints, &density, Encoding::Raw)
 }
 
-/// [`write_vtu`] with the error estimate's density per cell given
-/// (`None`: computed here), for a caller that has the estimate already,
-/// and the arrays stored as `encoding` says.
+/// [`write_vtu`] with the error estimate's density per cell from `density`
+/// (called once the revolved grid is made: a caller that shares the
+/// estimate lets it be made meanwhile), the arrays stored as `encoding`
+/// says.
 pub fn write_vtu_with(
     path: &Path,
     field: &Field,
     n_sections: usize,
     fields: &[&str],
     joints: Option<&JointFieldFile>,
-    density: Option<&[f64]>,
+    density: &dyn Fn() -> Vec<f64>,
     encoding: Encoding,
 ) -> Result<(), ReportError> {
     if n_sections < 3 {
@@ -203,7 +205,18 @@ pub fn write_vtu_with(
             Outputs::VTU_FIELDS.join(", ")
         )));
     }
-    let solid = solid_grid(path, field, n_sections, fields, density)?;
+    let mut solid = solid_grid(path, field, n_sections, fields)?;
+    // The error estimate per cell (docs/accuracy.md), of each cell's
+    // meridional cell.
+    let density = density();
+    let error: Vec<f64> = match solid.cell_data.iter().find(|a| a.name == "meridional_cell") {
+        Some(Array {
+            values: Values::I64(cells),
+            ..
+        }) => cells.iter().map(|&c| density[c as usize]).collect(),
+        _ => Vec::new(),
+    };
+    solid.cell_data.push(Array::f64("error_energy", 1, error));
     let joint_grid = match joints {
         Some(jf) if !field.mesh.joints.is_empty() => {
             let jpath = joints_path(path);
@@ -1058,25 +1071,13 @@ fn cartesian([ur, uz, ut]: [f64; 3], (s, c): (f64, f64)) -> [f64; 3] {
 }
 
 /// The revolved bodies, with the point arrays `fields`.
-fn solid_grid(
-    path: &Path,
-    field: &Field,
-    n: usize,
-    fields: &[&str],
-    density: Option<&[f64]>,
-) -> Result<Grid, ReportError> {
+fn solid_grid(path: &Path, field: &Field, n: usize, fields: &[&str]) -> Result<Grid, ReportError> {
     let mesh = field.mesh;
     let want = |name: &str| fields.contains(&name);
     let needs_stress = ["stress", "sigma_cyl", "von_mises"].iter().any(|f| want(f));
     let mut g = Grid::default();
     let (mut disp, mut disp_cyl, mut stress, mut cyl, mut vm) = (vec![], vec![], vec![], vec![], vec![]);
     let (mut body_of, mut cell_of) = (vec![], vec![]);
-    // The error estimate per cell (docs/accuracy.md).
-    let density = match density {
-        Some(d) => d.to_vec(),
-        None => crate::estimate::Estimate::new(field).cell_density(),
-    };
-    let mut error_of = vec![];
     for body in 0..mesh.bodies.len() {
         let (mut used, mut needs_mid) = (vec![false; mesh.nodes.len()], vec![false; mesh.nodes.len()]);
         for cell in mesh.cells.iter().filter(|c| c.body == body) {
@@ -1146,7 +1147,6 @@ fn solid_grid(
                 g.push_cell(t, &revolve(cell.kind, &cell.nodes, k, &rings));
                 body_of.push(body as i32);
                 cell_of.push(c as i64);
-                error_of.push(density[c]);
             }
         }
     }
@@ -1173,7 +1173,6 @@ fn solid_grid(
             component_names: &[],
             values: Values::I64(cell_of),
         },
-        Array::f64("error_energy", 1, error_of),
     ];
     Ok(g)
 }
