@@ -17,6 +17,16 @@ const DEFAULT_SIZES: [f64; 4] = [0.4, 0.2, 0.12, 0.07];
 /// Default mesh sizes of the peer (coarse to fine).
 const DEFAULT_PEER_SIZES: [f64; 3] = [0.2, 0.14, 0.1];
 
+/// --ratio: gradings of axijoint's meshes (size / element size along the
+/// pile side): the scenes' 2, and 8 (the b-b profile runs 0.25 m above
+/// the re-entrant corner at the pile side, where a graded mesh reaches an
+/// error at a fraction of the unknowns).
+const RATIO_REFINES: [f64; 2] = [2.0, 8.0];
+
+/// --ratio: the peer's levels: 0.1 (3.8e4 equations) and the finest, 0.06
+/// (about 1.8e5, the level issue 16 measured its ratios at; 2.4 GB).
+const RATIO_PEER_SIZES: [f64; 2] = [0.1, 0.06];
+
 /// --ratio: axijoint's mesh sizes (coarser ones too: the peer's error is
 /// reached below 0.4).
 const RATIO_SIZES: [f64; 8] = [1.0, 0.8, 0.6, 0.4, 0.3, 0.2, 0.12, 0.07];
@@ -80,8 +90,9 @@ run the ratio peer time / axijoint time at the peer's error (vs axijoint's
 reference), wall and CPU.
 
 --ratio: the peer ratio of the four peer variants bonded, linear,
-frictionless (C = 0, phi = 0) and coulomb in one run: the peer at its finest
-level only (0.1), axijoint at sizes 1.0 to 0.07, M = 4, 8, 16, 32, newton,
+frictionless (C = 0, phi = 0) and coulomb in one run: the peer at its levels
+0.1 and 0.06 (the finest, about 1.8e5 equations), axijoint at sizes 1.0 to 0.07
+with the gradings refine = 2 and 8, M = 4, 8, 16, 32, newton,
 each `axijoint solve` also timed 3 times with the mesh from a warm cache
 (WORK/mesh-cache; the fastest kept). Prints per variant peer time / axijoint
 time at the peer's profile error, with meshing (gmsh + ccx against `solve
@@ -121,6 +132,11 @@ struct Cli {
     /// 1.1e4 and 3.1e4 DOF per harmonic; --quick: 0.4,0.2].
     #[arg(long, value_delimiter = ',')]
     sizes: Vec<f64>,
+    /// Gradings `refine` of geo/pile_footing.geo (size / element size along
+    /// the pile side); the largest is the reference's [default: 2, the
+    /// scenes'; --ratio: 2,8].
+    #[arg(long, value_delimiter = ',')]
+    refines: Vec<f64>,
     /// Highest harmonics M of the nonlinear variants; the largest is the
     /// reference's (default: 4,8,16,32; --quick: 4,8).
     #[arg(long, value_delimiter = ',')]
@@ -209,11 +225,17 @@ fn real_main() -> Result<()> {
             cli.methods = vec!["newton".into()];
         }
         if cli.peer_sizes.is_empty() {
-            cli.peer_sizes = DEFAULT_PEER_SIZES[2..].to_vec();
+            cli.peer_sizes = RATIO_PEER_SIZES.to_vec();
+        }
+        if cli.refines.is_empty() {
+            cli.refines = RATIO_REFINES.to_vec();
         }
     }
     if cli.sizes.is_empty() {
         cli.sizes = if q { vec![0.4, 0.2] } else { DEFAULT_SIZES.to_vec() };
+    }
+    if cli.refines.is_empty() {
+        cli.refines = vec![axijoint_bench::sweep::DEFAULT_REFINE];
     }
     if cli.harmonics.is_empty() {
         cli.harmonics = if q { vec![4, 8] } else { vec![4, 8, 16, 32] };
@@ -278,6 +300,7 @@ fn real_main() -> Result<()> {
                 .map(|v| known_variant(v, &cli.geo_dir))
                 .collect::<Result<_>>()?,
             sizes: cli.sizes.clone(),
+            refines: cli.refines.clone(),
             harmonics: cli.harmonics.clone(),
             methods: cli.methods.clone(),
             linear_harmonics: cli.linear_harmonics,

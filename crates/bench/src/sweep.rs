@@ -70,6 +70,9 @@ pub struct Config {
     /// Mesh sizes (geo/pile_footing.geo `size`), any order; the smallest is
     /// the reference level.
     pub sizes: Vec<f64>,
+    /// Gradings (geo/pile_footing.geo `refine`: size / element size along
+    /// the pile side), any order; the largest is the reference's.
+    pub refines: Vec<f64>,
     /// Highest harmonics M; the largest is the reference's.
     pub harmonics: Vec<usize>,
     /// Methods of the nonlinear variants: "paper", "anderson", "newton".
@@ -90,6 +93,9 @@ pub struct Config {
     /// times, keeping the fastest (0: not at all).
     pub warm_solves: usize,
 }
+
+/// The grading `refine` of geo/pile_footing.geo's scenes.
+pub const DEFAULT_REFINE: f64 = 2.0;
 
 /// One row of `accuracy.csv`. Empty fields: not applicable or failed.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -155,6 +161,10 @@ pub struct Row {
     /// CPU time of the same run (s).
     #[serde(default)]
     pub solve_warm_cpu_s: Option<f64>,
+    /// axijoint: the grading `refine` of geo/pile_footing.geo (size /
+    /// element size along the pile side; 2 where the CSV has none).
+    #[serde(default)]
+    pub refine: Option<f64>,
 }
 
 impl Row {
@@ -295,6 +305,8 @@ pub struct Job {
     pub method: String,
     /// Mesh size.
     pub size: f64,
+    /// Grading towards the pile side.
+    pub refine: f64,
     /// Highest harmonic.
     pub m: usize,
     /// Tolerance.
@@ -309,11 +321,12 @@ impl Job {
     /// A file-name-safe label.
     pub fn label(&self) -> String {
         format!(
-            "{}_{}_{}_s{}_M{}_eps{:e}",
+            "{}_{}_{}_s{}_r{}_M{}_eps{:e}",
             self.variant.name,
             self.role,
             if self.variant.linear { "-" } else { &self.method },
             self.size,
+            self.refine,
             self.m,
             self.epsilon
         )
@@ -321,22 +334,31 @@ impl Job {
 }
 
 /// The axijoint jobs of a configuration, cheapest first within each
-/// variant; the nonlinear references come last.
+/// variant; the nonlinear references come last. Every size runs with every
+/// grading, except that with several gradings a nonlinear variant runs its
+/// finest size at the largest grading only as its reference.
 pub fn plan(cfg: &Config) -> Vec<Job> {
     let mut sizes = cfg.sizes.clone();
     sizes.sort_by(|a, b| b.total_cmp(a));
+    let mut refines = cfg.refines.clone();
+    refines.sort_by(f64::total_cmp);
     let mut ms = cfg.harmonics.clone();
     ms.sort_unstable();
+    let meshes: Vec<(f64, f64)> = sizes
+        .iter()
+        .flat_map(|&s| refines.iter().map(move |&r| (s, r)))
+        .collect();
     let mut jobs = Vec::new();
     let mut refs = Vec::new();
     for v in &cfg.variants {
         if v.linear {
-            for &size in &sizes {
+            for &(size, refine) in &meshes {
                 jobs.push(Job {
                     variant: v.clone(),
                     // Irrelevant to a linear scene; any valid method.
                     method: "anderson".into(),
                     size,
+                    refine,
                     m: cfg.linear_harmonics,
                     epsilon: cfg.epsilon,
                     role: "linear".into(),
@@ -345,13 +367,19 @@ pub fn plan(cfg: &Config) -> Vec<Job> {
             }
             continue;
         }
-        for &size in &sizes {
+        // The reference's mesh (finest size, largest grading) only for the
+        // reference when there are several gradings (it is the costliest by far).
+        let is_ref_mesh = |size: f64, refine: f64| {
+            refines.len() > 1 && Some(&size) == sizes.last() && Some(&refine) == refines.last()
+        };
+        for &(size, refine) in meshes.iter().filter(|&&(s, r)| !is_ref_mesh(s, r)) {
             for &m in &ms {
                 for method in &cfg.methods {
                     jobs.push(Job {
                         variant: v.clone(),
                         method: method.clone(),
                         size,
+                        refine,
                         m,
                         epsilon: cfg.epsilon,
                         role: "sweep".into(),
@@ -360,11 +388,12 @@ pub fn plan(cfg: &Config) -> Vec<Job> {
                 }
             }
         }
-        if let (Some(&size), Some(&m)) = (sizes.last(), ms.last()) {
+        if let (Some(&size), Some(&refine), Some(&m)) = (sizes.last(), refines.last(), ms.last()) {
             refs.push(Job {
                 variant: v.clone(),
                 method: cfg.ref_method.clone(),
                 size,
+                refine,
                 m,
                 epsilon: cfg.ref_epsilon,
                 role: "reference".into(),
@@ -398,6 +427,7 @@ pub fn run_job(cfg: &Config, job: &Job) -> Outcome {
         },
         role: job.role.clone(),
         size: job.size,
+        refine: Some(job.refine),
         m: Some(job.m),
         epsilon: Some(job.epsilon),
         status: "ok".into(),
@@ -444,6 +474,8 @@ fn axijoint_cmd(cfg: &Config, sub: &str, scene: &Path, out: &Path, job: &Job, ca
         .arg(job.m.to_string())
         .arg("--set")
         .arg(format!("size={}", job.size))
+        .arg("--set")
+        .arg(format!("refine={}", job.refine))
         .env("RUST_BACKTRACE", "0");
     if cached {
         c.env("AXIJOINT_CACHE", cfg.work_dir.join("mesh-cache"));
@@ -578,9 +610,10 @@ pub fn run_peer(cfg: &Config, variant: &Variant, pv: PeerVariant, size: f64) -> 
 /// Fills `err_vs_axijoint_ref` and `err_vs_peer_ref` of every successful
 /// outcome and marks the references. The axijoint reference of a variant
 /// is its "reference" run, else (a linear variant, or a failed reference)
-/// its successful run of smallest size, then largest M, then smallest
-/// epsilon; the peer's is its run of smallest size.
+/// its successful run of smallest size, then largest grading, then largest
+/// M, then smallest epsilon; the peer's is its run of smallest size.
 pub fn compute_errors(outcomes: &mut [Outcome]) {
+    let refine = |r: &Row| r.refine.unwrap_or(DEFAULT_REFINE);
     let mut variants: Vec<String> = outcomes.iter().map(|o| o.row.variant.clone()).collect();
     variants.dedup();
     variants.sort();
@@ -596,6 +629,7 @@ pub fn compute_errors(outcomes: &mut [Outcome]) {
                     (b.role == "reference")
                         .cmp(&(a.role == "reference"))
                         .then(a.size.total_cmp(&b.size))
+                        .then(refine(b).total_cmp(&refine(a)))
                         .then(b.m.cmp(&a.m))
                         .then(a.epsilon.unwrap_or(1.0).total_cmp(&b.epsilon.unwrap_or(1.0)))
                 })

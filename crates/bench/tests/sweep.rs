@@ -8,7 +8,7 @@ use axijoint_bench::pareto::{cost_at_error, front};
 use axijoint_bench::profile::Profile;
 use axijoint_bench::summary::{format_ratio_table, summarize};
 use axijoint_bench::sweep::{
-    compute_errors, failure_line, known_variant, read_csv, run_job, write_csv, Config, Job, Row,
+    compute_errors, failure_line, known_variant, plan, read_csv, run_job, write_csv, Config, Job, Row,
 };
 use std::path::{Path, PathBuf};
 
@@ -329,6 +329,7 @@ fn one_coarse_real_run() {
         work_dir: work.path().to_path_buf(),
         variants: vec![variant.clone()],
         sizes: vec![0.5],
+        refines: vec![2.0],
         harmonics: vec![2],
         methods: vec!["newton".into()],
         linear_harmonics: 2,
@@ -343,6 +344,7 @@ fn one_coarse_real_run() {
         variant: variant.clone(),
         method: "newton".into(),
         size: 0.5,
+        refine: 2.0,
         m: 2,
         epsilon: eps,
         role: role.into(),
@@ -395,4 +397,54 @@ fn one_coarse_real_run() {
     assert!(outcomes[1].row.is_reference && outcomes[1].row.err_vs_axijoint_ref == Some(0.0));
     let e = outcomes[0].row.err_vs_axijoint_ref.unwrap();
     assert!(e > 0.0 && e < 0.05, "{e}");
+}
+
+#[test]
+fn the_plan_crosses_sizes_gradings_and_harmonics_and_refers_to_the_finest() {
+    let geo = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../geo");
+    let cfg = Config {
+        axijoint: "axijoint".into(),
+        gmsh: "gmsh".into(),
+        ccx: "ccx".into(),
+        work_dir: "unused".into(),
+        variants: vec![
+            known_variant("coulomb", &geo).unwrap(),
+            known_variant("bonded", &geo).unwrap(),
+        ],
+        sizes: vec![0.3, 0.5],
+        refines: vec![8.0, 2.0],
+        harmonics: vec![4, 2],
+        methods: vec!["newton".into()],
+        linear_harmonics: 4,
+        epsilon: 1e-6,
+        ref_epsilon: 1e-8,
+        ref_method: "newton".into(),
+        peer_sizes: vec![],
+        keep: false,
+        warm_solves: 0,
+    };
+    let jobs = plan(&cfg);
+    // coulomb: 2 sizes x 2 gradings x 2 M but the reference's mesh, then
+    // its reference; bonded: one run per mesh.
+    assert_eq!(jobs.len(), 6 + 4 + 1);
+    assert!(!jobs
+        .iter()
+        .any(|j| j.role == "sweep" && (j.size, j.refine) == (0.3, 8.0)));
+    let reference: Vec<_> = jobs.iter().filter(|j| j.role == "reference").collect();
+    assert_eq!(reference.len(), 1);
+    assert_eq!(
+        (reference[0].size, reference[0].refine, reference[0].m),
+        (0.3, 8.0, 4)
+    );
+    let bonded: Vec<(f64, f64)> = jobs
+        .iter()
+        .filter(|j| j.role == "linear")
+        .map(|j| (j.size, j.refine))
+        .collect();
+    assert_eq!(bonded, [(0.5, 2.0), (0.5, 8.0), (0.3, 2.0), (0.3, 8.0)]);
+    // Every job's label (its folder) is its own.
+    let mut labels: Vec<String> = jobs.iter().map(|j| j.label()).collect();
+    labels.sort();
+    labels.dedup();
+    assert_eq!(labels.len(), jobs.len());
 }

@@ -107,7 +107,7 @@ pub fn solve_and_write_then(
         .clone()
         .unwrap_or_else(|| default_output(scene_path));
     let header = if scene.mesh.adapt.is_some() {
-        adapt::solve_adaptive(&scene, &out, common.quiet)?
+        adapt::solve_adaptive(&scene, &out, common.quiet, iterating)?
     } else {
         solve_to_then(&scene, &out, common.quiet, iterating)?
     };

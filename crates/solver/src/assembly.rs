@@ -26,47 +26,63 @@ pub struct Pattern {
     pub row_idx: Vec<usize>,
 }
 
+/// Whether the non-empty `lo..hi` ranges follow each other from 0 to `n`.
+fn consecutive(ranges: &[(usize, usize)], n: usize) -> bool {
+    let mut next = 0;
+    for &(lo, hi) in ranges.iter().filter(|r| r.0 < r.1) {
+        if lo != next {
+            return false;
+        }
+        next = hi;
+    }
+    next == n
+}
+
 impl Pattern {
     /// The pattern of all element couplings; `elements` yields each element's
-    /// node list (joints: bottom nodes then top nodes).
+    /// node list (joints: bottom nodes then top nodes). Built from the node
+    /// graph: [`DofMap`] numbers the equations node by node, so a node's
+    /// equations are one range and its sorted neighbours give a column's
+    /// rows in order.
     pub fn new<'a>(dofs: &DofMap, elements: impl Iterator<Item = &'a [usize]>) -> Pattern {
-        let mut cols: Vec<Vec<usize>> = vec![Vec::new(); dofs.n_eq];
-        // The diagonal is always present (pinned rows need it).
-        for (e, col) in cols.iter_mut().enumerate() {
-            col.push(e);
+        // The equations of each node: `lo..hi` (empty when all supported).
+        let mut range = vec![(usize::MAX, 0usize); dofs.n_nodes];
+        for (node, r) in range.iter_mut().enumerate() {
+            for (e, _) in (3 * node..3 * node + 3).flat_map(|d| dofs.terms(d)) {
+                *r = (r.0.min(e), r.1.max(e + 1));
+            }
         }
-        let mut eqs = Vec::new();
+        debug_assert!(consecutive(&range, dofs.n_eq));
+        // Each node's neighbours (itself included: the diagonal, which pinned
+        // rows need), sorted.
+        let mut adj: Vec<Vec<usize>> = (0..dofs.n_nodes).map(|n| vec![n]).collect();
         for nodes in elements {
-            eqs.clear();
-            for &n in nodes {
-                for c in 0..3 {
-                    eqs.extend(dofs.terms(3 * n + c).map(|t| t.0));
-                }
-            }
-            for &a in &eqs {
-                for &b in &eqs {
-                    if a <= b {
-                        cols[b].push(a);
-                    }
-                }
-            }
-            // Keep memory in check on large meshes.
-            for &b in &eqs {
-                if cols[b].len() > 256 {
-                    cols[b].sort_unstable();
-                    cols[b].dedup();
+            for &a in nodes {
+                let list = &mut adj[a];
+                list.extend_from_slice(nodes);
+                // Keep memory in check on large meshes.
+                if list.len() > 256 {
+                    list.sort_unstable();
+                    list.dedup();
                 }
             }
         }
         let mut col_ptr = Vec::with_capacity(dofs.n_eq + 1);
         let mut row_idx = Vec::new();
         col_ptr.push(0);
-        for mut col in cols {
-            col.sort_unstable();
-            col.dedup();
-            row_idx.extend_from_slice(&col);
-            col_ptr.push(row_idx.len());
+        for (b, list) in adj.iter_mut().enumerate() {
+            list.sort_unstable();
+            list.dedup();
+            let (lo, hi) = range[b];
+            for e in lo..hi {
+                for &a in list.iter() {
+                    let (alo, ahi) = range[a];
+                    row_idx.extend(alo..ahi.min(e + 1));
+                }
+                col_ptr.push(row_idx.len());
+            }
         }
+        debug_assert_eq!(col_ptr.len(), dofs.n_eq + 1);
         Pattern {
             n: dofs.n_eq,
             col_ptr,

@@ -459,11 +459,13 @@ pub fn face_displacement(mesh: &Mesh, curve: &str, u: &Displacements) -> Option<
 
 /// Largest displacement magnitude over the nodes at 16 sections of the turn.
 pub fn max_displacement(n_nodes: usize, u: &Displacements) -> f64 {
+    let m_max = u.harmonics.iter().map(|h| h.m as usize).max().unwrap_or(0);
     let mut max: f64 = 0.0;
     for k in 0..16 {
         let theta = std::f64::consts::PI * f64::from(k) / 8.0;
+        let trig: Vec<(f64, f64)> = (0..=m_max).map(|m| (m as f64 * theta).sin_cos()).collect();
         for n in 0..n_nodes {
-            let d = u.at(n, theta);
+            let d = u.at_trig(n, &trig);
             max = max.max((d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt());
         }
     }

@@ -22,8 +22,9 @@
 use axijoint_mesh::geometry::interpolate;
 use axijoint_mesh::{CellKind, EdgeKind, JointKind};
 use axijoint_solver::elements::{
-    add_traction_forces, c_m, edge_load, joint_points, joint_stiffness, relative_displacement,
-    solid_stiffness, strain_at, stress_at, JointError, JointRule, JointSprings, SolidScratch,
+    add_traction_forces, b_matrix, c_m, edge_load, joint_points, joint_stiffness, relative_displacement,
+    solid_stiffness, solid_stiffness_terms, strain_at, stress_at, JointError, JointRule, JointSprings,
+    SolidScratch,
 };
 use axijoint_solver::material::{Elastic, MaterialError};
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
@@ -119,6 +120,56 @@ fn boundary_loads(
 
 fn max_abs(k: &DMatrix<f64>) -> f64 {
     k.iter().fold(0.0f64, |a, v| a.max(v.abs()))
+}
+
+/// `c_m sum_q B^T D B r |det J| w` with the dense `B` of `b_matrix` and
+/// `D` of the material: the definition, term by term.
+fn stiffness_by_definition(kind: CellKind, x: &[[f64; 2]], m: u32) -> DMatrix<f64> {
+    use axijoint_mesh::geometry::{derivatives_rz, jacobian};
+    let nn = kind.n_nodes();
+    let d = mat().d_matrix();
+    let mut k = DMatrix::zeros(3 * nn, 3 * nn);
+    let (mut n, mut dn, mut drz) = (vec![0.0; nn], vec![[0.0; 2]; nn], vec![[0.0; 2]; nn]);
+    let mut b = DMatrix::zeros(6, 3 * nn);
+    let rule = axijoint_mesh::quadrature::default_rule(kind);
+    for (xi, w) in rule.points.iter().zip(rule.weights) {
+        kind.eval_n(*xi, &mut n);
+        kind.eval_dn(*xi, &mut dn);
+        let (jac, det) = jacobian(kind, x, &dn);
+        derivatives_rz(&jac, det, &dn, &mut drz);
+        let r = interpolate(x, &n)[0];
+        b_matrix(m, &n, &drz, r, &mut b);
+        let dm = DMatrix::from_fn(6, 6, |i, j| d[(i, j)]);
+        k += b.transpose() * dm * &b * (c_m(m) * r * det.abs() * w);
+    }
+    k
+}
+
+#[test]
+fn stiffness_and_its_three_terms_are_the_quadrature_of_btdb() {
+    // solid_stiffness takes the products node block by node block in closed
+    // form; the definition multiplies the dense B and D.
+    for kind in CELLS {
+        let x = element(kind);
+        let mut terms = [DMatrix::zeros(0, 0), DMatrix::zeros(0, 0), DMatrix::zeros(0, 0)];
+        solid_stiffness_terms(kind, &x, &mat(), &mut SolidScratch::new(kind), &mut terms);
+        for m in 0..4 {
+            let reference = stiffness_by_definition(kind, &x, m);
+            let scale = max_abs(&reference);
+            let diff = max_abs(&(stiffness(kind, &x, m) - &reference));
+            assert!(
+                diff <= 1e-13 * scale,
+                "{kind:?} m = {m}: {diff:.2e} of {scale:.2e}"
+            );
+            let mf = f64::from(m);
+            let from_terms = (&terms[0] + &terms[1] * mf + &terms[2] * (mf * mf)) * c_m(m);
+            let diff = max_abs(&(from_terms - &reference));
+            assert!(
+                diff <= 1e-13 * scale,
+                "{kind:?} m = {m} (terms): {diff:.2e} of {scale:.2e}"
+            );
+        }
+    }
 }
 
 #[test]

@@ -3,7 +3,7 @@
 //! below the target and the profiles moved by less than the target since
 //! the cycle before, or the cycles run out (docs/accuracy.md).
 
-use super::solve_to;
+use super::solve_to_then;
 use anyhow::{ensure, Context, Result};
 use axijoint_report::adapt::{mesh_with_background, new_sizes, write_background};
 use axijoint_report::cuts::profile;
@@ -74,8 +74,14 @@ fn change(before: &Samples, now: &Samples) -> f64 {
 
 /// Solves `scene` (with `mesh.adapt`) into `out`, re-meshing until the
 /// target is met; the solution left in `out` is the last cycle's, with the
-/// table of cycles in `extra.adapt` and in [`CYCLES_CSV`].
-pub fn solve_adaptive(scene: &Scene, out: &Path, quiet: bool) -> Result<SolutionHeader> {
+/// table of cycles in `extra.adapt` and in [`CYCLES_CSV`]. `iterating`:
+/// as in [`super::solve_to_then`].
+pub fn solve_adaptive(
+    scene: &Scene,
+    out: &Path,
+    quiet: bool,
+    iterating: &dyn Fn(),
+) -> Result<SolutionHeader> {
     let adapt = scene.mesh.adapt.context("no mesh.adapt")?;
     ensure!(
         adapt.target > 0.0 && adapt.target < 1.0,
@@ -102,7 +108,7 @@ pub fn solve_adaptive(scene: &Scene, out: &Path, quiet: bool) -> Result<Solution
     let mut before: Option<Vec<Samples>> = None;
     let mut tighten = 1.0;
     let mut header = loop {
-        let header = solve_to(&current, out, quiet)?;
+        let header = solve_to_then(&current, out, quiet, iterating)?;
         let saved = read_solution(out)?;
         let materials: Vec<_> = saved
             .mesh

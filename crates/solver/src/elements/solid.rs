@@ -80,7 +80,7 @@ pub fn b_matrix_on_axis(m: u32, dn_drz: &[[f64; 2]], out: &mut DMatrix<f64>) {
 }
 
 /// Per-kind workspace of [`solid_stiffness`]: the rule, the shape values and
-/// reference derivatives at its points, and the B / DB buffers. Build it once
+/// reference derivatives at its points, the physical derivatives. Build it once
 /// per element kind and reuse it for every element of that kind; nothing is
 /// allocated per element or per Gauss point.
 #[derive(Clone, Debug)]
@@ -92,8 +92,6 @@ pub struct SolidScratch {
     /// `[dN_i/dxi, dN_i/deta]` at point q: `dn[q * n_nodes + i]`.
     dn: Vec<[f64; 2]>,
     dn_rz: Vec<[f64; 2]>,
-    b: DMatrix<f64>,
-    db: DMatrix<f64>,
 }
 
 impl SolidScratch {
@@ -113,8 +111,6 @@ impl SolidScratch {
             n,
             dn,
             dn_rz: vec![[0.0; 2]; nn],
-            b: DMatrix::zeros(6, DOF_PER_NODE * nn),
-            db: DMatrix::zeros(6, DOF_PER_NODE * nn),
         }
     }
 
@@ -141,7 +137,8 @@ impl SolidScratch {
 /// in gmsh order; `|det J|` makes either orientation work, a folded element
 /// (det J changing sign, see `corner_and_gauss_dets`) does not. `out` is
 /// resized to 3n x 3n if needed and overwritten; the result is exactly
-/// symmetric. If `scratch` is for another kind it is rebuilt.
+/// symmetric. If `scratch` is for another kind it is rebuilt. The products
+/// are taken node block by node block in closed form (`each_block`).
 pub fn solid_stiffness(
     kind: CellKind,
     coords: &[[f64; 2]],
@@ -154,29 +151,87 @@ pub fn solid_stiffness(
         *scratch = SolidScratch::new(kind);
     }
     let nn = kind.n_nodes();
-    let ndof = DOF_PER_NODE * nn;
-    zero_matrix(out, ndof, ndof);
-    let d = mat.d_matrix();
-    let cm = c_m(m);
+    zero_matrix(out, DOF_PER_NODE * nn, DOF_PER_NODE * nn);
+    let (cm, mf) = (c_m(m), f64::from(m));
     let SolidScratch {
-        rule,
-        n,
-        dn,
-        dn_rz,
-        b,
-        db,
-        ..
+        rule, n, dn, dn_rz, ..
     } = scratch;
     for (q, w) in rule.weights.iter().enumerate() {
         let (nq, dnq) = (&n[q * nn..(q + 1) * nn], &dn[q * nn..(q + 1) * nn]);
         let (jac, det) = jacobian(kind, coords, dnq);
         derivatives_rz(&jac, det, dnq, dn_rz);
         let r = interpolate(&coords[..nn], nq)[0];
-        b_matrix(m, nq, dn_rz, r, b);
-        db.gemm(1.0, &d, b, 0.0);
-        out.gemm_tr(cm * r * det.abs() * w, b, db, 1.0);
+        let f = cm * r * det.abs() * w;
+        each_block(mat, nq, dn_rz, r, |a, b, t| {
+            let mut k = [[0.0; 3]; 3];
+            for (i, row) in k.iter_mut().enumerate() {
+                for (j, v) in row.iter_mut().enumerate() {
+                    *v = f * (t[0][i][j] + mf * (t[1][i][j] + mf * t[2][i][j]));
+                }
+            }
+            add_block(out, a, b, &k);
+        });
     }
     symmetrize(out);
+}
+
+/// The parts `t[0] + m t[1] + m^2 t[2]` of the 3 x 3 block `B_a^T D B_b` of
+/// nodes `a <= b` at one point (`N`, `dN/dr`, `dN/dz` given, `h = N / r`),
+/// in closed form for the isotropic `D` (lambda, G, A = lambda + 2 G) and
+/// the `B` of the module doc: a fifth of the products of `B^T (D B)`.
+fn each_block(
+    mat: &Elastic,
+    n: &[f64],
+    dn_rz: &[[f64; 2]],
+    r: f64,
+    mut f: impl FnMut(usize, usize, &[[[f64; 3]; 3]; 3]),
+) {
+    let (l, g) = (mat.lame_lambda(), mat.shear_modulus());
+    let a2 = l + 2.0 * g;
+    let nn = n.len();
+    for a in 0..nn {
+        let ([ra, za], ha) = (dn_rz[a], n[a] / r);
+        for b in a..nn {
+            let ([rb, zb], hb) = (dn_rz[b], n[b] / r);
+            let hh = ha * hb;
+            let t = [
+                [
+                    [
+                        ra * (a2 * rb + l * hb) + ha * (l * rb + a2 * hb) + g * za * zb,
+                        l * (ra + ha) * zb + g * za * rb,
+                        0.0,
+                    ],
+                    [l * za * (rb + hb) + g * ra * zb, a2 * za * zb + g * ra * rb, 0.0],
+                    [0.0, 0.0, g * ((ra - ha) * (rb - hb) + za * zb)],
+                ],
+                [
+                    [0.0, 0.0, l * ra * hb + a2 * hh - g * ha * (rb - hb)],
+                    [0.0, 0.0, l * za * hb - g * ha * zb],
+                    [
+                        l * ha * rb + a2 * hh - g * hb * (ra - ha),
+                        l * ha * zb - g * za * hb,
+                        0.0,
+                    ],
+                ],
+                [[g * hh, 0.0, 0.0], [0.0, g * hh, 0.0], [0.0, 0.0, a2 * hh]],
+            ];
+            f(a, b, &t);
+        }
+    }
+}
+
+/// Adds block `k` at nodes `(a, b)` of `out`, and its transpose at `(b, a)`
+/// when `a != b`.
+fn add_block(out: &mut DMatrix<f64>, a: usize, b: usize, k: &[[f64; 3]; 3]) {
+    let (ia, ib) = (DOF_PER_NODE * a, DOF_PER_NODE * b);
+    for (i, row) in k.iter().enumerate() {
+        for (j, &v) in row.iter().enumerate() {
+            out[(ia + i, ib + j)] += v;
+            if a != b {
+                out[(ib + j, ia + i)] += v;
+            }
+        }
+    }
 }
 
 /// B^T (D B) is symmetric up to rounding: make it exactly so.
@@ -212,53 +267,27 @@ pub fn solid_stiffness_terms(
         *scratch = SolidScratch::new(kind);
     }
     let nn = kind.n_nodes();
-    let ndof = DOF_PER_NODE * nn;
     for o in out.iter_mut() {
-        zero_matrix(o, ndof, ndof);
+        zero_matrix(o, DOF_PER_NODE * nn, DOF_PER_NODE * nn);
     }
-    let d = mat.d_matrix();
-    // Row of B_m's entry in the column of component u, v, w, and its sign.
-    const RHO: [usize; 3] = [4, 5, 2];
-    const SIGN: [f64; 3] = [-1.0, -1.0, 1.0];
-    let mut beta = [0.0; DOF_PER_NODE * MAX_CELL_NODES];
     let SolidScratch {
-        rule,
-        n,
-        dn,
-        dn_rz,
-        b,
-        db,
-        ..
+        rule, n, dn, dn_rz, ..
     } = scratch;
-    let [o0, o1, o2] = out;
     for (q, w) in rule.weights.iter().enumerate() {
         let (nq, dnq) = (&n[q * nn..(q + 1) * nn], &dn[q * nn..(q + 1) * nn]);
         let (jac, det) = jacobian(kind, coords, dnq);
         derivatives_rz(&jac, det, dnq, dn_rz);
         let r = interpolate(&coords[..nn], nq)[0];
-        b_matrix(0, nq, dn_rz, r, b);
-        db.gemm(1.0, &d, b, 0.0);
         let f = r * det.abs() * w;
-        o0.gemm_tr(f, b, db, 1.0);
-        for (j, bj) in beta[..ndof].iter_mut().enumerate() {
-            *bj = SIGN[j % 3] * nq[j / 3] / r;
-        }
-        for a in 0..ndof {
-            let (ra, ba) = (RHO[a % 3], beta[a]);
-            for bb in a..ndof {
-                let (rb, bv) = (RHO[bb % 3], beta[bb]);
-                o1[(a, bb)] += f * (db[(rb, a)] * bv + db[(ra, bb)] * ba);
-                o2[(a, bb)] += f * (ba * bv * d[(ra, rb)]);
+        each_block(mat, nq, dn_rz, r, |a, b, t| {
+            for (o, tk) in out.iter_mut().zip(t) {
+                add_block(o, a, b, &tk.map(|row| row.map(|v| f * v)));
             }
-        }
+        });
     }
-    for a in 0..ndof {
-        for bb in a + 1..ndof {
-            o1[(bb, a)] = o1[(a, bb)];
-            o2[(bb, a)] = o2[(a, bb)];
-        }
+    for o in out.iter_mut() {
+        symmetrize(o);
     }
-    symmetrize(o0);
 }
 
 /// Consistent nodal forces of a body force of harmonic `m` with amplitudes
