@@ -23,8 +23,8 @@ const DEFAULT_PEER_SIZES: [f64; 3] = [0.2, 0.14, 0.1];
 /// error at a fraction of the unknowns).
 const RATIO_REFINES: [f64; 2] = [2.0, 8.0];
 
-/// --ratio: the peer's levels: 0.1 (3.8e4 equations) and the finest, 0.06
-/// (about 1.8e5, the level issue 16 measured its ratios at; 2.4 GB).
+/// --ratio: the peer's levels: 0.1 (3.8e4-4.0e4 equations) and the finest,
+/// 0.06 (1.4e5, near the level issue 16 measured its ratios at; 2.3-4.5 GB).
 const RATIO_PEER_SIZES: [f64; 2] = [0.1, 0.06];
 
 /// --ratio: axijoint's mesh sizes (coarser ones too: the peer's error is
@@ -91,7 +91,7 @@ reference), wall and CPU.
 
 --ratio: the peer ratio of the four peer variants bonded, linear,
 frictionless (C = 0, phi = 0) and coulomb in one run: the peer at its levels
-0.1 and 0.06 (the finest, about 1.8e5 equations), axijoint at sizes 1.0 to 0.07
+0.1 and 0.06 (the finest, about 1.4e5 equations), axijoint at sizes 1.0 to 0.07
 with the gradings refine = 2 and 8, M = 4, 8, 16, 32, newton,
 each `axijoint solve` also timed 3 times with the mesh from a warm cache
 (WORK/mesh-cache; the fastest kept). Prints per variant peer time / axijoint
