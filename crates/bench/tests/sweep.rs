@@ -9,6 +9,7 @@ use axijoint_bench::profile::Profile;
 use axijoint_bench::summary::{format_ratio_table, summarize};
 use axijoint_bench::sweep::{
     compute_errors, failure_line, known_variant, plan, read_csv, run_job, write_csv, Config, Job, Row,
+    Variant,
 };
 use std::path::{Path, PathBuf};
 
@@ -305,6 +306,28 @@ fn axijoint_binary() -> Option<PathBuf> {
         .find(|p| p.is_file())
 }
 
+/// One size (0.5), grading 2, M = 2, newton, no peer.
+fn config(axijoint: PathBuf, work_dir: PathBuf, variants: Vec<Variant>) -> Config {
+    Config {
+        axijoint,
+        gmsh: "gmsh".into(),
+        ccx: "ccx".into(),
+        work_dir,
+        variants,
+        sizes: vec![0.5],
+        refines: vec![2.0],
+        harmonics: vec![2],
+        methods: vec!["newton".into()],
+        linear_harmonics: 2,
+        epsilon: 1e-6,
+        ref_epsilon: 1e-8,
+        ref_method: "newton".into(),
+        peer_sizes: vec![],
+        keep: false,
+        warm_solves: 0,
+    }
+}
+
 #[test]
 fn one_coarse_real_run() {
     let Some(axijoint) = axijoint_binary() else {
@@ -322,24 +345,7 @@ fn one_coarse_real_run() {
     let work = tempfile::tempdir().unwrap();
     let geo = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../geo");
     let variant = known_variant("coulomb", &geo).unwrap();
-    let cfg = Config {
-        axijoint,
-        gmsh: "gmsh".into(),
-        ccx: "ccx".into(),
-        work_dir: work.path().to_path_buf(),
-        variants: vec![variant.clone()],
-        sizes: vec![0.5],
-        refines: vec![2.0],
-        harmonics: vec![2],
-        methods: vec!["newton".into()],
-        linear_harmonics: 2,
-        epsilon: 1e-6,
-        ref_epsilon: 1e-8,
-        ref_method: "newton".into(),
-        peer_sizes: vec![],
-        keep: false,
-        warm_solves: 0,
-    };
+    let cfg = config(axijoint, work.path().to_path_buf(), vec![variant.clone()]);
     let job = |eps: f64, role: &str| Job {
         variant: variant.clone(),
         method: "newton".into(),
@@ -402,26 +408,16 @@ fn one_coarse_real_run() {
 #[test]
 fn the_plan_crosses_sizes_gradings_and_harmonics_and_refers_to_the_finest() {
     let geo = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../geo");
+    let variants = vec![
+        known_variant("coulomb", &geo).unwrap(),
+        known_variant("bonded", &geo).unwrap(),
+    ];
     let cfg = Config {
-        axijoint: "axijoint".into(),
-        gmsh: "gmsh".into(),
-        ccx: "ccx".into(),
-        work_dir: "unused".into(),
-        variants: vec![
-            known_variant("coulomb", &geo).unwrap(),
-            known_variant("bonded", &geo).unwrap(),
-        ],
         sizes: vec![0.3, 0.5],
         refines: vec![8.0, 2.0],
         harmonics: vec![4, 2],
-        methods: vec!["newton".into()],
         linear_harmonics: 4,
-        epsilon: 1e-6,
-        ref_epsilon: 1e-8,
-        ref_method: "newton".into(),
-        peer_sizes: vec![],
-        keep: false,
-        warm_solves: 0,
+        ..config("axijoint".into(), "unused".into(), variants)
     };
     let jobs = plan(&cfg);
     // coulomb: 2 sizes x 2 gradings x 2 M but the reference's mesh, then

@@ -21,12 +21,7 @@ pub(super) fn not_converged(
     if stiffness > STIFF_JOINT {
         return IterationError::StiffJoint {
             last: None,
-            joint: setup
-                .model
-                .mesh
-                .joints
-                .get(worst)
-                .map_or_else(|| "?".into(), |j| j.name.clone()),
+            joint: joint_name(setup, worst),
             stiffness,
             reason: format!(
                 "the iteration limit ({}) was reached at residual ratio {ratio:.3e} > epsilon {:.1e}",
@@ -45,6 +40,16 @@ pub(super) fn not_converged(
         epsilon: settings.epsilon,
         history,
     }
+}
+
+/// The name of joint `j` (`?` if there is none).
+fn joint_name(setup: &Setup, j: usize) -> String {
+    setup
+        .model
+        .mesh
+        .joints
+        .get(j)
+        .map_or_else(|| "?".into(), |j| j.name.clone())
 }
 
 /// The joint that carries most of a section-force residual `f`.
@@ -160,12 +165,8 @@ pub(super) fn no_equilibrium(
     last: IterationRecord,
     history: Vec<IterationRecord>,
 ) -> IterationError {
-    let mesh = &setup.model.mesh;
     let worst = worst_joint(setup, f);
-    let joint = mesh
-        .joints
-        .get(worst)
-        .map_or_else(|| "?".into(), |j| j.name.clone());
+    let joint = joint_name(setup, worst);
     // A joint much stiffer than its bodies (k h / E >> 1) makes every
     // method crawl (docs/stability.md, case 3), which looks like no
     // equilibrium: not reported as one.
@@ -218,12 +219,7 @@ pub(super) fn unbalanced(
     let worst = (0..yielded.len()).max_by_key(|&j| yielded[j]).unwrap_or(0);
     IterationError::NoEquilibrium {
         last: None,
-        joint: setup
-            .model
-            .mesh
-            .joints
-            .get(worst)
-            .map_or_else(|| "?".into(), |j| j.name.clone()),
+        joint: joint_name(setup, worst),
         reason: format!(
             "the residual converged, but the reactions miss {:.1} % of the load: the open and sliding joints leave a body free to move (a mechanism), and the displacements grew until rounding made them meaningless",
             100.0 * imbalance
