@@ -523,14 +523,16 @@ pub fn run_run(args: &RunArgs) -> Result<()> {
         }
         None => None,
     };
-    let (go, ready) = std::sync::mpsc::channel::<()>();
-    let once = std::sync::Once::new();
-    let start_comparison = || {
-        once.call_once(|| {
-            let _ = go.send(());
-        })
-    };
     let (solved, comparison) = std::thread::scope(|s| {
+        // Owned by this body, so that the waiting thread is let go even if
+        // the solve unwinds.
+        let (go, ready) = std::sync::mpsc::channel::<()>();
+        let once = std::sync::Once::new();
+        let start_comparison = || {
+            once.call_once(|| {
+                let _ = go.send(());
+            })
+        };
         let comparison = bonded.as_ref().zip(side.as_ref()).map(|(b, side)| {
             s.spawn(move || {
                 let _ = ready.recv();

@@ -473,7 +473,7 @@ impl Grid {
         // Int32 cell arrays where they fit (half the bytes of Int64).
         let small = i32::try_from(self.connectivity.len().max(self.n_points())).is_ok();
         let narrow = |v: &[i64]| small.then(|| v.iter().map(|&x| x as i32).collect::<Vec<_>>());
-        let (connectivity, offsets) = (narrow(&self.connectivity), narrow(&self.offsets));
+        let (connectivity32, offsets32) = (narrow(&self.connectivity), narrow(&self.offsets));
         // Every array in file order, grouped by parent element.
         let groups: [(&str, Vec<ArrayRef>); 4] = [
             ("PointData", self.point_data.iter().map(ArrayRef::of).collect()),
@@ -485,8 +485,8 @@ impl Grid {
             (
                 "Cells",
                 vec![
-                    ArrayRef::plain("connectivity", 1, index(&self.connectivity, &connectivity)),
-                    ArrayRef::plain("offsets", 1, index(&self.offsets, &offsets)),
+                    ArrayRef::plain("connectivity", 1, index(&self.connectivity, &connectivity32)),
+                    ArrayRef::plain("offsets", 1, index(&self.offsets, &offsets32)),
                     ArrayRef::plain("types", 1, ValuesRef::U8(&self.types)),
                 ],
             ),
@@ -506,7 +506,7 @@ impl Grid {
             .flat_map(|(_, arrays)| arrays.iter())
             .zip(&blocks)
             .map(|(a, b)| b.as_ref().map_or(8 + a.values.n_bytes(), Vec::len));
-        let offsets: Vec<usize> = sizes
+        let starts: Vec<usize> = sizes
             .scan(0, |at, size| {
                 let start = *at;
                 *at += size;
@@ -530,7 +530,7 @@ impl Grid {
         piece.push_attribute(("NumberOfPoints", self.n_points().to_string().as_str()));
         piece.push_attribute(("NumberOfCells", self.types.len().to_string().as_str()));
         w.write_event(Event::Start(piece))?;
-        let mut at = offsets.iter();
+        let mut at = starts.iter();
         for (tag, arrays) in &groups {
             let mut el = BytesStart::new(*tag);
             if matches!(*tag, "PointData" | "CellData") {
