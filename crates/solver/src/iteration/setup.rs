@@ -483,13 +483,13 @@ impl<'a> Setup<'a> {
         let mut size = 0.0;
         let mut sums = Vec::new();
         for (h, load) in self.loads.iter().enumerate() {
-            let f = load.scaled(self.lambda);
-            size += f
+            let magnitude: f64 = load
                 .symmetric
                 .iter()
-                .chain(&f.antisymmetric)
+                .chain(&load.antisymmetric)
                 .map(|v| v.abs())
-                .sum::<f64>();
+                .sum();
+            size += self.lambda.abs() * magnitude;
             let Some(d) = u
                 .harmonics
                 .iter()
@@ -497,6 +497,7 @@ impl<'a> Setup<'a> {
             else {
                 continue;
             };
+            let f = load.scaled(self.lambda);
             let mut v = HarmonicLoads::zeros(load.m, n);
             let families = [
                 (&d.symmetric, f.symmetric, &mut v.symmetric),
