@@ -18,21 +18,13 @@
 //! shared by two bodies (or the two copies of a joint node) gets one
 //! recovered value per body, so no jump between bodies is smoothed.
 
-use crate::field::{Field, Locator};
-use axijoint_mesh::geometry::{interpolate, jacobian};
+use crate::field::{gather, Field, Locator};
 use axijoint_mesh::quadrature::default_rule;
 use axijoint_mesh::shapes::MAX_CELL_NODES;
 use axijoint_mesh::{CellKind, Mesh};
 use axijoint_solver::elements::{c_m, StrainPoint};
 use axijoint_solver::material::Elastic;
 use rayon::prelude::*;
-
-/// The nodal values of `u` (3 per node) at `nodes`, into `out`.
-fn gather(u: &[f64], nodes: &[usize], out: &mut [f64]) {
-    for (o, &n) in out.chunks_exact_mut(3).zip(nodes) {
-        o.copy_from_slice(&u[3 * n..3 * n + 3]);
-    }
-}
 
 /// One harmonic and family of the displacement whose stresses are estimated.
 struct Mode {
@@ -148,14 +140,10 @@ impl Estimate {
                     stress: vec![Vec::new(); nm],
                 };
                 for (xi, w) in default_rule(c.kind).iter() {
-                    let mut dn = [[0.0; 2]; MAX_CELL_NODES];
-                    c.kind.eval_dn(xi, &mut dn[..nn]);
-                    let (_, det) = jacobian(c.kind, &coords, &dn[..nn]);
                     let point = StrainPoint::new(c.kind, &coords, xi);
-                    let mut n = [0.0; MAX_CELL_NODES];
-                    c.kind.eval_n(xi, &mut n[..nn]);
-                    g.points.push(interpolate(&coords, &n[..nn]));
-                    g.weights.push(w * det.abs() * point.r());
+                    let x = point.position();
+                    g.points.push(x);
+                    g.weights.push(w * point.det().abs() * x[0]);
                     for (k, md) in modes.iter().enumerate() {
                         gather(&md.u, &c.nodes, &mut ue);
                         g.stress[k].push(point.stress(mat, md.m, &ue[..3 * nn]));

@@ -9,6 +9,13 @@ use axijoint_solver::material::Elastic;
 use axijoint_solver::scene::InitialStress;
 use rstar::{RTree, RTreeObject, AABB};
 
+/// The nodal values of `u` (3 per node) at `nodes`, into `out`.
+pub(crate) fn gather(u: &[f64], nodes: &[usize], out: &mut [f64]) {
+    for (o, &n) in out.chunks_exact_mut(3).zip(nodes) {
+        o.copy_from_slice(&u[3 * n..3 * n + 3]);
+    }
+}
+
 /// A cell's bounding box in the R-tree.
 struct CellBox {
     cell: usize,
@@ -250,9 +257,7 @@ impl Field<'_> {
                 if h.m == 0 && anti {
                     continue;
                 }
-                for (e, &n) in ue.chunks_exact_mut(3).zip(&c.nodes) {
-                    e.copy_from_slice(&amp[3 * n..3 * n + 3]);
-                }
+                gather(amp, &c.nodes, &mut ue);
                 if ue[..3 * nn].iter().all(|&v| v == 0.0) {
                     continue;
                 }

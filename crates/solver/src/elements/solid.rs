@@ -393,7 +393,8 @@ pub struct StrainPoint {
     nn: usize,
     n: [f64; MAX_CELL_NODES],
     drz: [[f64; 2]; MAX_CELL_NODES],
-    r: f64,
+    x: [f64; 2],
+    det: f64,
     on_axis: bool,
 }
 
@@ -410,7 +411,7 @@ impl StrainPoint {
         kind.eval_dn(xi, &mut dn);
         let (jac, det) = jacobian(kind, coords, &dn);
         derivatives_rz(&jac, det, &dn[..nn], &mut drz[..nn]);
-        let r = interpolate(&coords[..nn], &n[..nn])[0];
+        let x = interpolate(&coords[..nn], &n[..nn]);
         let (lo, hi) =
             coords[..nn]
                 .iter()
@@ -425,8 +426,9 @@ impl StrainPoint {
             nn,
             n,
             drz,
-            r,
-            on_axis: r.abs() <= AXIS_TOL * h,
+            x,
+            det,
+            on_axis: x[0].abs() <= AXIS_TOL * h,
         }
     }
 
@@ -444,7 +446,7 @@ impl StrainPoint {
             }
         }
         let [[u, u_r, u_z], [v, v_r, v_z], [w, w_r, w_z]] = f;
-        let (mf, r) = (f64::from(m), self.r);
+        let (mf, r) = (f64::from(m), self.x[0]);
         // (u + m w)/r, (w + m u)/r, m v / r
         let (hoop_u, hoop_w, hoop_v) = if self.on_axis {
             (u_r + mf * w_r, w_r + mf * u_r, mf * v_r)
@@ -460,9 +462,14 @@ impl StrainPoint {
         (mat.d_matrix() * eps).into()
     }
 
-    /// The point's radius.
-    pub fn r(&self) -> f64 {
-        self.r
+    /// The point's `(r, z)`.
+    pub fn position(&self) -> [f64; 2] {
+        self.x
+    }
+
+    /// The Jacobian determinant of the cell's map there.
+    pub fn det(&self) -> f64 {
+        self.det
     }
 }
 
