@@ -129,6 +129,11 @@ pub struct JointModel {
     /// nonlinear joint solved by Newton a softer reference (the difference
     /// is released with the law's traction, see `iteration`).
     pub assembled: JointSprings,
+    /// The normal spring an opening is measured with where the history
+    /// law's shear strength fades ([`crate::joint_law::history_response`]):
+    /// `min(k_eta, E / h)` for a nonlinear joint of a scene, whatever the
+    /// method; `k_eta` by default.
+    pub opening: f64,
     /// Integration rule.
     pub rule: JointRule,
 }
@@ -139,6 +144,7 @@ impl JointModel {
         JointModel {
             springs,
             assembled: springs,
+            opening: springs.k_eta,
             rule,
         }
     }

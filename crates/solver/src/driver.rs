@@ -108,10 +108,12 @@ pub fn build_model(scene: &Scene, mesh: Mesh) -> Result<Model, SolverError> {
                 .first()
                 .map_or(axijoint_mesh::JointKind::Lin6, |e| e.kind);
             let mut joint = JointModel::new(config.springs(), config.rule(kind));
-            if config.law != crate::scene::JointLaw::Linear
-                && scene.solver.method == crate::scene::SolverMethod::Newton
-            {
-                joint.assembled = reference_springs(&mesh, j, &materials, joint.springs);
+            if config.law != crate::scene::JointLaw::Linear {
+                let reference = reference_springs(&mesh, j, &materials, joint.springs);
+                joint.opening = reference.k_eta;
+                if scene.solver.method == crate::scene::SolverMethod::Newton {
+                    joint.assembled = reference;
+                }
             }
             joint
         })

@@ -16,12 +16,13 @@
 //!   state committed at the last converged step ([`PointHistory`]: debonded
 //!   or not, plastic slip `s`), the trial traction is
 //!   `t = (k_xi (d_xi - s_xi), k_eta d_eta, k_theta (d_theta - s_theta))`;
-//!   a debonded point has `C = 0` and no tensile strength (open when
-//!   `sigma > 0`, friction only when closed); an intact point keeps its
-//!   cohesion and carries tension elastically *within* a step, so the law
-//!   a step solves is continuous in `d` (the caller debonds the points whose
-//!   `sigma` exceeds the tensile strength once the step has converged, and
-//!   solves the step again). [`commit`] stores the plastic slip of a
+//!   the normal traction is capped at the tensile strength left `T'` (T,
+//!   or 0 once debonded), and an opening pair's shear strength fades with
+//!   its opening, so the law a step solves is continuous in `d`
+//!   ([`history_response`]; the caller debonds the points whose trial
+//!   `sigma` exceeds T once the step has converged). Debonding takes the
+//!   tensile strength only: a debonded point that closes has `C` and
+//!   `phi`, as in the paper. [`commit`] stores the plastic slip of a
 //!   converged step: `s = d_s - p_s / k_s` (the elastic part of the slip
 //!   is `p / k`).
 
@@ -115,35 +116,6 @@ fn shear_return(mc: &MohrCoulomb, t: [f64; 3]) -> ([f64; 3], JointState) {
     }
 }
 
-/// The admissible traction of the law's piece `state` at trial traction
-/// `t`, extended beyond where the law picks that piece: stick `t`, open 0,
-/// slip the shear scaled to `tau_y` (resultant: along `t_s`, kept where
-/// `t_s = 0`; components: clamped). The Newton predictor linearizes this
-/// at the states of the last converged step.
-pub fn admissible_piece(law: &JointLaw, t: [f64; 3], state: JointState) -> [f64; 3] {
-    let JointLaw::MohrCoulomb(mc) = law else {
-        return t;
-    };
-    match state {
-        JointState::Stick => t,
-        JointState::Open => [0.0; 3],
-        JointState::Slip => {
-            let tau_y = (mc.cohesion - t[1] * mc.tan_phi()).max(0.0);
-            match mc.shear_check {
-                ShearCheck::Resultant => {
-                    let tau = t[0].hypot(t[2]);
-                    if tau <= 0.0 {
-                        return t;
-                    }
-                    let f = tau_y / tau;
-                    [t[0] * f, t[1], t[2] * f]
-                }
-                ShearCheck::Components => shear_return(mc, t).0,
-            }
-        }
-    }
-}
-
 /// The state a (point, section) pair carries from one converged load step
 /// to the next under the history law.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -155,12 +127,11 @@ pub struct PointHistory {
     pub slip: [f64; 2],
 }
 
-/// The law a pair with history `h` follows: `law` itself, or with `C = 0`
-/// and `T = 0` once debonded.
+/// The law a pair with history `h` follows: `law` itself, or with `T = 0`
+/// once debonded (the cohesion stays: the paper's law).
 pub fn effective_law(law: &JointLaw, h: &PointHistory) -> JointLaw {
     match law {
         JointLaw::MohrCoulomb(mc) if h.debonded => JointLaw::MohrCoulomb(MohrCoulomb {
-            cohesion: 0.0,
             tensile_strength: 0.0,
             ..*mc
         }),
@@ -191,14 +162,122 @@ pub fn admissible_history(
 /// [`admissible_history`] at the trial traction `t` (the
 /// [`relative_trial`] plus any initial traction).
 pub fn admissible_history_trial(law: &JointLaw, t: [f64; 3], h: &PointHistory) -> ([f64; 3], JointState) {
-    let mc = match effective_law(law, h) {
-        JointLaw::Linear => return (t, JointState::Stick),
+    let r = history_response(law, t, h, 1.0);
+    (r.traction, r.state)
+}
+
+/// The derivative `d(t - p) / dt` of the traction a law releases at a
+/// trial traction `t` (`None`: nothing released nearby, the derivative 0).
+pub type ReleaseTangent = Option<[[f64; 3]; 3]>;
+
+/// The history law at one pair: traction, state and release tangent.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Response {
+    /// The admissible traction `p`.
+    pub traction: [f64; 3],
+    /// Open (trial tension above the strength left), slip or stick.
+    pub state: JointState,
+    /// `d(t - p) / dt` at `t`.
+    pub tangent: ReleaseTangent,
+}
+
+/// The history law at trial traction `t` from the committed state `h`:
+/// tension up to `T'` (`T` intact, 0 debonded; the normal traction is
+/// capped there), shear up to `tau_y`, with the shear strength a
+/// continuous function of the trial normal stress `sigma_t`:
+///
+/// ```text
+/// sigma_t <= T':  tau_y = max(C - sigma_t tan(phi), 0)                     (Mohr-Coulomb)
+/// sigma_t >  T':  tau_y = max(C - T' tan(phi) - rho (sigma_t - T'), 0)     (opening)
+/// ```
+///
+/// An opening pair loses its shear strength with its opening `g`, at the
+/// rate `rho k_eta g` of a spring `rho k_eta` (the joint's
+/// [`crate::assembly::JointModel::opening`] spring over the normal spring of
+/// `t`), and carries nothing once that has taken its strength (the paper's
+/// open joint). Debonding takes the tensile strength, not the cohesion:
+/// the paper's law, where a joint that closes again has `C` and `phi`.
+pub fn history_response(law: &JointLaw, t: [f64; 3], h: &PointHistory, rho: f64) -> Response {
+    let opening = match law {
+        JointLaw::MohrCoulomb(mc) => t[1] > if h.debonded { 0.0 } else { mc.tensile_strength },
+        JointLaw::Linear => false,
+    };
+    respond(law, t, h, rho, opening)
+}
+
+/// [`history_response`] on its opening (`opening`) or closed branch.
+fn respond(law: &JointLaw, t: [f64; 3], h: &PointHistory, rho: f64, opening: bool) -> Response {
+    let mc = match law {
+        JointLaw::Linear => {
+            return Response {
+                traction: t,
+                state: JointState::Stick,
+                tangent: None,
+            }
+        }
         JointLaw::MohrCoulomb(mc) => mc,
     };
-    if h.debonded && t[1] > 0.0 {
-        return ([0.0; 3], JointState::Open);
+    let tan_phi = mc.tan_phi();
+    let t_left = if h.debonded { 0.0 } else { mc.tensile_strength };
+    let sigma_t = t[1];
+    let (strength, slope) = if opening {
+        (
+            (mc.cohesion - t_left * tan_phi).max(0.0) - rho * (sigma_t - t_left),
+            rho,
+        )
+    } else {
+        (mc.cohesion - sigma_t * tan_phi, tan_phi)
+    };
+    let (tau_y, slope) = if strength > 0.0 {
+        (strength, slope)
+    } else {
+        (0.0, 0.0)
+    };
+    let sigma = if opening { t_left } else { sigma_t };
+    let mut tangent = [[0.0; 3]; 3];
+    if opening {
+        tangent[1][1] = 1.0;
     }
-    shear_return(&mc, t)
+    let mut slipping = false;
+    let traction = match mc.shear_check {
+        ShearCheck::Resultant => {
+            let tau = t[0].hypot(t[2]);
+            if tau <= tau_y {
+                [t[0], sigma, t[2]]
+            } else {
+                slipping = true;
+                let f = tau_y / tau;
+                let (n0, n2) = (t[0] / tau, t[2] / tau);
+                tangent[0] = [1.0 - f + f * n0 * n0, n0 * slope, f * n0 * n2];
+                tangent[2] = [f * n0 * n2, n2 * slope, 1.0 - f + f * n2 * n2];
+                [t[0] * f, sigma, t[2] * f]
+            }
+        }
+        ShearCheck::Components => {
+            let mut q = [t[0], sigma, t[2]];
+            for c in [0, 2] {
+                if t[c].abs() > tau_y {
+                    slipping = true;
+                    q[c] = t[c].signum() * tau_y;
+                    tangent[c][c] = 1.0;
+                    tangent[c][1] = t[c].signum() * slope;
+                }
+            }
+            q
+        }
+    };
+    let state = if opening {
+        JointState::Open
+    } else if slipping {
+        JointState::Slip
+    } else {
+        JointState::Stick
+    };
+    Response {
+        traction,
+        state,
+        tangent: (opening || slipping).then_some(tangent),
+    }
 }
 
 /// Whether an intact pair at the trial normal stress `sigma` (`t_0 + k_eta
@@ -212,9 +291,10 @@ pub fn exceeds_tensile_strength(law: &JointLaw, sigma: f64, h: &PointHistory) ->
 }
 
 /// Commits a converged step from the initial traction `t0`: the plastic
-/// slip `s = d_s - (p_s - t0_s) / k_s` of a slipping pair, `s = d_s +
-/// t0_s / k_s` of an open one (it carries no shear); a sticking pair keeps
-/// its slip. A zero spring keeps its slip (its traction never changes).
+/// slip `s = d_s - (p_s - t0_s) / k_s` of a slipping or opening pair (an
+/// open one carries no shear: `s = d_s + t0_s / k_s`); a sticking pair
+/// keeps its slip. A zero spring keeps its slip (its traction never
+/// changes).
 pub fn commit(
     k: &JointSprings,
     d: [f64; 3],
@@ -224,19 +304,11 @@ pub fn commit(
     h: &mut PointHistory,
 ) {
     let slip = |d: f64, t0: f64, p: f64, k: f64, old: f64| if k > 0.0 { d - (p - t0) / k } else { old };
-    match state {
-        JointState::Stick => {}
-        JointState::Slip | JointState::Open => {
-            let (p0, p2) = if state == JointState::Open {
-                (0.0, 0.0)
-            } else {
-                (p[0], p[2])
-            };
-            h.slip = [
-                slip(d[0], t0[0], p0, k.k_xi, h.slip[0]),
-                slip(d[2], t0[2], p2, k.k_theta, h.slip[1]),
-            ];
-        }
+    if state != JointState::Stick {
+        h.slip = [
+            slip(d[0], t0[0], p[0], k.k_xi, h.slip[0]),
+            slip(d[2], t0[2], p[2], k.k_theta, h.slip[1]),
+        ];
     }
 }
 
@@ -345,33 +417,113 @@ mod tests {
     }
 
     #[test]
-    fn history_law_keeps_tension_elastic_until_committed() {
-        // Intact, sigma = 0.2 > T = 0.1: traction kept (tau_y = 0.5 - 0.2 tan 30).
+    fn history_law_caps_tension_at_the_strength_until_committed() {
+        // Intact, sigma_t = 0.2 > T = 0.1: opening, the normal traction
+        // capped at T, the shear strength C - T tan 30 - (0.2 - 0.1) = 0.34226
+        // carries tau = 0.1.
         let l = law(0.5, 30.0, 0.1, ShearCheck::Resultant);
         let h = PointHistory::default();
         let (p, s) = admissible_history(&l, &K, [0.01, 0.01, 0.0], &h);
-        assert_eq!((p, s), ([0.1, 0.2, 0.0], JointState::Stick));
+        assert_eq!(s, JointState::Open);
+        assert!(
+            (p[0] - 0.1).abs() < 1e-15 && (p[1] - 0.1).abs() < 1e-15 && p[2] == 0.0,
+            "{p:?}"
+        );
+        // tau = 0.5 > 0.34226: the shear slips at the opening strength.
+        let (p, _) = admissible_history(&l, &K, [0.05, 0.01, 0.0], &h);
+        let strength = 0.5 - 0.1 * 30f64.to_radians().tan() - 0.1;
+        assert!((p[0] - strength).abs() < 1e-14, "{p:?}");
         assert!(exceeds_tensile_strength(&l, K.k_eta * 0.01, &h));
         assert!(!exceeds_tensile_strength(&l, K.k_eta * 0.004, &h));
     }
 
     #[test]
-    fn debonded_point_has_friction_only() {
+    fn debonded_point_keeps_its_cohesion_and_opens_in_tension() {
         let l = law(0.5, 30.0, 0.1, ShearCheck::Resultant);
         let h = PointHistory {
             debonded: true,
             slip: [0.0; 2],
         };
-        // Any tension opens it.
+        // A small opening (sigma_t = 2e-5) keeps the shear strength
+        // 0.5 - 2e-5 and no normal traction: tau = 0.1 is carried.
+        let (p, s) = admissible_history(&l, &K, [0.01, 1e-6, 0.0], &h);
+        assert_eq!((p, s), ([0.1, 0.0, 0.0], JointState::Open));
+        // An opening of sigma_t >= C carries nothing (the paper's open joint).
         assert_eq!(
-            admissible_history(&l, &K, [0.01, 1e-6, 0.0], &h),
+            admissible_history(&l, &K, [0.01, 0.03, 0.0], &h),
             ([0.0; 3], JointState::Open)
         );
-        // Closed at sigma = -1: tau_y = tan 30 (no cohesion).
+        // Closed at sigma = -1: tau_y = C + tan 30, the paper's law.
+        let tau_y = 0.5 + 30f64.to_radians().tan();
+        let (p, s) = admissible_history(&l, &K, [0.05, -0.05, 0.0], &h);
+        assert_eq!((p[0], s), (0.5, JointState::Stick));
         let (p, s) = admissible_history(&l, &K, [0.3, -0.05, 0.0], &h);
         assert_eq!(s, JointState::Slip);
-        assert!((p[0] - 30f64.to_radians().tan()).abs() < 1e-14);
+        assert!((p[0] - tau_y).abs() < 1e-14);
         assert!(!exceeds_tensile_strength(&l, K.k_eta, &h));
+    }
+
+    /// The history law is continuous in the trial traction where the paper's
+    /// is not (closing and opening, the end of the opening branch, the
+    /// tensile strength), and its tangent is the derivative of the release
+    /// away from the switching surfaces, on every branch and check.
+    #[test]
+    fn history_law_is_continuous_and_its_tangent_is_its_derivative() {
+        for check in [ShearCheck::Resultant, ShearCheck::Components] {
+            for (t_strength, debonded) in [(0.0, false), (0.1, false), (0.1, true)] {
+                let l = law(0.5, 30.0, t_strength, check);
+                let h = PointHistory {
+                    debonded,
+                    slip: [0.0; 2],
+                };
+                let t_left = if debonded { 0.0 } else { t_strength };
+                let rho = 0.7;
+                let at = |t: [f64; 3]| history_response(&l, t, &h, rho);
+                // Continuity across sigma_t = T' and the end of the opening branch.
+                let end = t_left + (0.5 - t_left * 30f64.to_radians().tan()) / rho;
+                for sigma in [t_left, end] {
+                    for shear in [[0.05, 0.02], [0.4, -0.3], [2.0, 1.0]] {
+                        let below = at([shear[0], sigma - 1e-9, shear[1]]).traction;
+                        let above = at([shear[0], sigma + 1e-9, shear[1]]).traction;
+                        for c in 0..3 {
+                            assert!(
+                                (below[c] - above[c]).abs() < 1e-8,
+                                "{check:?} {sigma} {shear:?}: {below:?} {above:?}"
+                            );
+                        }
+                    }
+                }
+                // The tangent against central differences.
+                let samples = [
+                    [0.05, -0.3, 0.02],
+                    [0.9, -0.3, -0.6],
+                    [0.05, t_left + 0.1, 0.02],
+                    [0.4, t_left + 0.1, -0.3],
+                    [0.4, end + 0.1, -0.3],
+                ];
+                for t in samples {
+                    let r = at(t);
+                    let tangent = r.tangent.unwrap_or([[0.0; 3]; 3]);
+                    let e = 1e-7;
+                    for j in 0..3 {
+                        let (mut a, mut b) = (t, t);
+                        a[j] += e;
+                        b[j] -= e;
+                        let (ra, rb) = (at(a), at(b));
+                        assert_eq!((ra.state, rb.state), (r.state, r.state), "{t:?}");
+                        for i in 0..3 {
+                            let release = |r: &Response, t: [f64; 3]| t[i] - r.traction[i];
+                            let fd = (release(&ra, a) - release(&rb, b)) / (2.0 * e);
+                            assert!(
+                                (fd - tangent[i][j]).abs() < 1e-6,
+                                "{check:?} T' {t_left} {t:?}: d e_{i} / d t_{j} = {} vs {fd}",
+                                tangent[i][j]
+                            );
+                        }
+                    }
+                }
+            }
+        }
     }
 
     #[test]
@@ -421,10 +573,9 @@ mod tests {
         // Opening (sigma = -1 + 20 d_eta > 0) releases everything; its slip
         // leaves no shear when it closes at the same d.
         let d = [0.2, 0.06, 0.0];
-        // Intact: the tension is kept within the step (no shear strength).
+        // Intact (T = 0): an opening of sigma_t = 0.2 >= C = 0 carries nothing.
         let (p, s) = admissible_history_trial(&l, trial(d, &h), &h);
-        assert_eq!((p[0], s), (0.0, JointState::Slip));
-        assert!((p[1] - 0.2).abs() < 1e-14);
+        assert_eq!((p, s), ([0.0; 3], JointState::Open));
         assert!(exceeds_tensile_strength(&l, trial(d, &h)[1], &h));
         h.debonded = true;
         let (p2, s2) = admissible_history_trial(&l, trial(d, &h), &h);

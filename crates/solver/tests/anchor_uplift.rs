@@ -47,6 +47,7 @@
 //! `[factor, failed_at]` of the limit load factor (docs/loading.md).
 
 use axijoint_solver::driver::{solve_scene, Run};
+use axijoint_solver::joint_law::JointState;
 use axijoint_solver::scene::Scene;
 use std::f64::consts::PI;
 use std::path::PathBuf;
@@ -178,9 +179,15 @@ fn elastic_normal_stresses_change_the_capacity() {
         if name == "plate_bottom" {
             continue;
         }
-        let c = if field.debonded[i] { 0.0 } else { C };
-        let sigma = field.p[i][1];
-        strength += 2.0 * PI * point.point.r * point.point.weight * (c - sigma * tan_phi).max(0.0);
+        // Closed: Mohr-Coulomb at the normal stress carried; opening: the
+        // shear it carries (its strength fades with the opening).
+        let p = field.p[i];
+        let tau_y = if field.state[i] == JointState::Open {
+            p[0].hypot(p[2])
+        } else {
+            C - p[1] * tan_phi
+        };
+        strength += 2.0 * PI * point.point.r * point.point.weight * tau_y.max(0.0);
         open_top |= name == "cylinder" && point.point.position[1] > -SIZE && field.debonded[i];
     }
     println!(

@@ -8,7 +8,7 @@
 //! | gravity column | `"gravity"` settles the column by `gamma L^2 / (2 M)` (M the oedometer modulus) | 1e-6 |
 //! | loads from the initial state | a top pressure q on a geostatic column moves the top by `q L / M`, whatever the weight | 1e-6 |
 //! | pile shaft capacity | the limit load factor of a rigid pile with a free tip is `2 pi a (C L + K0 gamma tan(phi) L^2 / 2)` | 2 % |
-//! | no initial phase | the same pile without it debonds in tension (T = 0) and stops below a tenth of even its cohesion `2 pi a C L` (the "why") | - |
+//! | no initial phase | the same pile without it has no normal stress for friction: the limit is its cohesion `2 pi a C L`, less where the shaft opens near the free tip | 5 % below |
 //!
 //! Column: `geo/cylinder.geo`, a = 0.5, L = 5, Q9, the side on rollers
 //! (`u_r = 0`), the base on rollers (`u_z = 0`): the one-dimensional
@@ -174,7 +174,7 @@ fn shaft_capacity_of_a_rigid_pile_is_the_closed_form() {
 }
 
 #[test]
-fn without_an_initial_phase_the_shaft_debonds_early() {
+fn without_an_initial_phase_the_shaft_carries_its_cohesion() {
     let (a, l, c) = (0.5, 10.0, 0.02);
     let capacity = 2.0 * PI * a * c * l;
     let force = 1.0;
@@ -191,7 +191,12 @@ fn without_an_initial_phase_the_shaft_debonds_early() {
         limit.factor
     );
     assert!(limit.beyond_capacity, "{}", limit.reason);
-    assert!(reached < 0.1 * capacity, "{reached} vs {capacity}");
+    // No normal stress to give friction: the cohesion alone, less where
+    // the shaft opens near the free tip (measured -3.0 %).
+    assert!(
+        reached <= capacity * (1.0 + 1e-3) && reached > 0.95 * capacity,
+        "{reached} vs {capacity}"
+    );
 }
 
 /// The shipped `geo/pile_soil_gravity.json` with its loads replaced.

@@ -4,7 +4,6 @@
 
 use super::release::Eval;
 use super::setup::{JointAmplitudes, Setup};
-use crate::joint_law::JointState;
 
 /// Halvings of the Newton step before the plain step is taken instead
 /// (lambda >= 1/32: a smaller one means a joint point switches state just
@@ -30,8 +29,8 @@ pub(super) trait Formulation {
     /// `x = G y`, the released section forces of y.
     fn forces(&self, y: &[f64], x: &mut [f64]);
     /// `R(y)` at the displacements `ev.u_s` (no sweep), the law choosing
-    /// each point's state, or the law's piece of `pieces`; fills `ev`.
-    fn residual(&self, y: &[f64], ev: &mut Eval, pieces: Option<&[JointState]>, res: &mut [f64]);
+    /// each point's state; fills `ev`.
+    fn residual(&self, y: &[f64], ev: &mut Eval, res: &mut [f64]);
     /// The section-force residual (`G R`) of a residual, for the ratio and
     /// the diagnosis.
     fn section_residual(&self, res: &[f64], out: &mut [f64]);
@@ -45,6 +44,4 @@ pub(super) trait Formulation {
     fn precondition(&mut self, r: &[f64], released: &mut JointAmplitudes, out: &mut [f64]) -> bool;
     /// Halvings of the line search.
     fn halvings(&self) -> u32;
-    /// Whether a warm start's first step linearizes at the predictor states.
-    fn predicts(&self) -> bool;
 }

@@ -340,16 +340,14 @@ impl IterationError {
 /// Where an iteration starts: the released section forces `x0` (zero for
 /// a one-shot run, the last converged step's in a stepped one) and the
 /// unknowns of Newton's formulation there (`y0`, from the same run), the
-/// reference `Psi_0` of the residual ratio (`None`: the first residual),
-/// and the joint states Newton's first step linearizes at (`None`: those
-/// of the law at the start); `u_s`, the section displacements at `x0` and
+/// reference `Psi_0` of the residual ratio (`None`: the first residual);
+/// `u_s`, the section displacements at `x0` and
 /// the current load when a converged evaluation gave them (a new debonding
 /// round, the rest of a loose solve: Newton starts without a sweep).
 pub(super) struct Start {
     x0: Vec<f64>,
     y0: Option<Vec<f64>>,
     psi_ref: Option<f64>,
-    predictor: Option<Vec<JointState>>,
     u_s: Option<Vec<f64>>,
 }
 
@@ -360,20 +358,18 @@ impl Start {
             x0: vec![0.0; setup.len()],
             y0: None,
             psi_ref: None,
-            predictor: None,
             u_s: None,
         }
     }
 
     /// From converged `conv` at the same load (a new debonding round, the
     /// rest of a loose solve): its forces, unknowns and section
-    /// displacements, the states `predictor` (`None`: its own).
-    fn resume(conv: Converged, psi_ref: Option<f64>, predictor: Option<Vec<JointState>>) -> Start {
+    /// displacements.
+    fn resume(conv: Converged, psi_ref: Option<f64>) -> Start {
         Start {
             x0: conv.x,
             y0: Some(conv.y),
             psi_ref,
-            predictor: Some(predictor.unwrap_or(conv.ev.state)),
             u_s: Some(conv.ev.u_s),
         }
     }

@@ -11,7 +11,6 @@ use super::release::{Eval, Tangent};
 use super::setup::{JointAmplitudes, Setup};
 use super::traction::Traction;
 use super::{axpy, dot, norm, Converged, Failure, IterationRecord, IterationSettings, Start};
-use crate::joint_law::JointState;
 use std::collections::VecDeque;
 use std::time::Instant;
 
@@ -58,8 +57,8 @@ impl Formulation for Nodal<'_, '_> {
         x.copy_from_slice(y);
     }
 
-    fn residual(&self, y: &[f64], ev: &mut Eval, pieces: Option<&[JointState]>, res: &mut [f64]) {
-        self.setup.release_pieces(ev, pieces);
+    fn residual(&self, y: &[f64], ev: &mut Eval, res: &mut [f64]) {
+        self.setup.release_all(ev);
         for ((r, g), x) in res.iter_mut().zip(&ev.g).zip(y) {
             *r = g - x;
         }
@@ -84,10 +83,6 @@ impl Formulation for Nodal<'_, '_> {
 
     fn halvings(&self) -> u32 {
         NEWTON_HALVINGS
-    }
-
-    fn predicts(&self) -> bool {
-        false
     }
 }
 
@@ -260,9 +255,7 @@ impl Krylov {
 /// the same eigenvalues apart from 1s: the joint tangent couples the
 /// harmonics, only the elastic factors are ever used.
 ///
-/// Each step: (0) the first step of a warm start linearizes at the states
-/// of `from.predictor` (the last converged step's: the tangent predictor of
-/// incremental codes) and is taken whole; (1) solve `J delta = -R` by GCR
+/// Each step: (1) solve `J delta = -R` by GCR
 /// to the Eisenstat-Walker tolerance eta (choice 2,
 /// `eta_k = 0.9 (|R_k| / |R_{k-1}|)^2`, safeguarded, in `[1e-3, 0.3]`, no
 /// tighter than the target needs); every `W G z` the solve pays a sweep
@@ -331,7 +324,7 @@ fn solve(
                     x: &mut [f64]| {
         form.forces(y, x);
         form.setup().displace(x, released, &mut ev.u_s);
-        form.residual(y, ev, None, res);
+        form.residual(y, ev, res);
     };
     let mut res = vec![0.0; ny];
     // The section displacements at the start, if known (no sweep).
@@ -340,7 +333,7 @@ fn solve(
         Some(u) => {
             form.forces(&y, &mut x);
             acc.u_s.copy_from_slice(u);
-            form.residual(&y, &mut acc, None, &mut res);
+            form.residual(&y, &mut acc, &mut res);
             0
         }
         None => {
@@ -379,28 +372,15 @@ fn solve(
     // Whether each of the last steps fell back to the plain step.
     let mut fallbacks = VecDeque::new();
     for step in 2..=settings.max_iterations {
-        // (0) The predictor, or (1) the Newton direction at y.
-        let predicted = step == 2 && from.predictor.is_some() && form.predicts();
-        match from.predictor.as_deref().filter(|_| predicted) {
-            Some(pieces) => {
-                let mut at = acc.clone();
-                form.residual(&y, &mut at, Some(pieces), &mut rhs);
-                form.linearize(&y, &at);
-            }
-            None => {
-                rhs.copy_from_slice(&res);
-                form.linearize(&y, &acc);
-            }
-        }
+        // (1) The Newton direction at y.
+        rhs.copy_from_slice(&res);
+        form.linearize(&y, &acc);
         if step > 2 {
             let ew = 0.9 * (r_norm / r_prev).powi(2);
             let safe = 0.9 * eta * eta;
             eta = if safe > 0.1 { ew.max(safe) } else { ew };
         }
         eta = eta.clamp(NEWTON_ETA_MIN, NEWTON_ETA_MAX).max(eta_floor / r_norm);
-        if predicted {
-            eta = NEWTON_ETA_MIN;
-        }
         let budget = settings.max_iterations.saturating_sub(total + 1);
         let mut sweeps = krylov.solve(
             form,
@@ -424,8 +404,8 @@ fn solve(
                 *t = a + lambda * w;
             }
             trial.broken.copy_from_slice(&acc.broken);
-            form.residual(&y_trial, &mut trial, None, &mut res_trial);
-            if predicted || norm(&res_trial) <= (1.0 - 1e-4 * lambda) * r_norm {
+            form.residual(&y_trial, &mut trial, &mut res_trial);
+            if norm(&res_trial) <= (1.0 - 1e-4 * lambda) * r_norm {
                 accepted = true;
                 break;
             }

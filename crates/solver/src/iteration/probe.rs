@@ -91,7 +91,7 @@ impl<'a> FixedPoint<'a> {
         form.forces(tau, &mut x);
         s.displace(&x, &mut released, &mut ev.u_s);
         let mut f = vec![0.0; tau.len()];
-        form.residual(tau, &mut ev, None, &mut f);
+        form.residual(tau, &mut ev, &mut f);
         (f, ev)
     }
 

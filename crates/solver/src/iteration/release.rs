@@ -3,9 +3,7 @@
 
 use super::setup::Setup;
 use crate::elements::{add_traction_forces, relative_displacement, JointSprings};
-use crate::joint_law::{
-    admissible_history_trial, admissible_piece, admissible_trial, effective_law, JointState,
-};
+use crate::joint_law::{admissible_trial, history_response, JointState, PointHistory};
 use crate::scene::{JointLaw, ShearCheck};
 use rayon::prelude::*;
 
@@ -139,6 +137,22 @@ pub(super) fn release_tangent(law: &JointLaw, trial: [f64; 3], state: JointState
     }
 }
 
+/// The release tangent of `law` at trial traction `trial`: the history
+/// law's (opening rate `rho`) where the pair has a history `h`, else the
+/// paper's law's at the state `state` it chose.
+pub(super) fn law_tangent(
+    law: &JointLaw,
+    h: Option<&PointHistory>,
+    trial: [f64; 3],
+    state: JointState,
+    rho: f64,
+) -> Tangent {
+    match h {
+        Some(h) => history_response(law, trial, h, rho).tangent,
+        None => release_tangent(law, trial, state),
+    }
+}
+
 /// The tangent of the release `k_a d - P(k d)` with respect to
 /// `t_a = k_a d` (`k_a` the springs assembled in K_m, k the law's):
 /// `I - (I - T) diag(k / k_a)`, T the law's [`release_tangent`]; T itself
@@ -188,33 +202,43 @@ impl Setup<'_> {
         }
     }
 
+    /// The opening rate `rho` of the history law for a trial traction of
+    /// the springs `k` at a point of `joint`: its opening spring over `k_eta`.
+    pub(super) fn opening_rate(&self, joint: usize, k: &JointSprings) -> f64 {
+        let opening = self.model.joints[joint].opening;
+        if k.k_eta > 0.0 && opening > 0.0 {
+            opening / k.k_eta
+        } else {
+            1.0
+        }
+    }
+
     /// The admissible traction and state of pair `k` (point `i`) at trial
-    /// traction `t`: the law's piece of `piece` if given ([`admissible_piece`]),
-    /// else the history law where the pair has a committed history, else
-    /// the paper's law with the break memory `broken`.
+    /// traction `t` of the springs `springs`: the history law where the
+    /// pair has a committed history, else the paper's law with the break
+    /// memory `broken`.
     pub(super) fn admissible(
         &self,
-        k: usize,
-        i: usize,
+        (k, i): (usize, usize),
         t: [f64; 3],
-        piece: Option<JointState>,
+        springs: &JointSprings,
         broken: &mut bool,
     ) -> ([f64; 3], JointState) {
-        let law = &self.laws[self.points[i].joint];
-        let h = self.history.as_ref().and_then(|h| h.get(k));
-        match (piece, h) {
-            (Some(piece), Some(h)) => (admissible_piece(&effective_law(law, h), t, piece), piece),
-            (Some(piece), None) => (admissible_piece(law, t, piece), piece),
-            (None, Some(h)) => admissible_history_trial(law, t, h),
-            (None, None) => admissible_trial(law, t, broken),
+        let joint = self.points[i].joint;
+        let law = &self.laws[joint];
+        match self.history.as_ref().and_then(|h| h.get(k)) {
+            Some(h) => {
+                let r = history_response(law, t, h, self.opening_rate(joint, springs));
+                (r.traction, r.state)
+            }
+            None => admissible_trial(law, t, broken),
         }
     }
 
     /// Evaluates the law at every point of section `s` from its joint-node
     /// displacements `u_s`: the released joint-node forces (per radian)
-    /// into `out.g`, and the field values (with `pieces`, the law's piece
-    /// of each pair's given state).
-    fn release(&self, s: usize, u_s: &[f64], pieces: Option<&[JointState]>, out: SectionEval) {
+    /// into `out.g`, and the field values.
+    fn release(&self, s: usize, u_s: &[f64], out: SectionEval) {
         let n_p = self.points.len();
         out.g.fill(0.0);
         let mut fe = [0.0; 18];
@@ -225,7 +249,7 @@ impl Setup<'_> {
             let t0 = self.t0(k);
             let h = self.history.as_ref().and_then(|h| h.get(k));
             let t = self.trial(info.joint, d, h, t0);
-            let (p, state) = self.admissible(k, i, t, pieces.map(|p| p[k]), &mut out.broken[i]);
+            let (p, state) = self.admissible((k, i), t, &joint.springs, &mut out.broken[i]);
             // Released: what K_m's spring and the initial traction carry
             // minus what the law allows.
             let trial = joint.assembled.traction(d);
@@ -244,15 +268,9 @@ impl Setup<'_> {
     /// The release at every section from `ev.u_s`: `ev.g = release(u_s)`,
     /// the field and the break memory (updated in place).
     pub(super) fn release_all(&self, ev: &mut Eval) {
-        self.release_pieces(ev, None);
-    }
-
-    /// [`Setup::release_all`] with the law's piece of the given state per
-    /// (section, point) (`None`: the law picks).
-    pub(super) fn release_pieces(&self, ev: &mut Eval, pieces: Option<&[JointState]>) {
         let m = self.per_section();
         let (u_s, sections) = ev.sections_mut(m, self.points.len().max(1), self.min_len());
-        sections.for_each(|(s, out)| self.release(s, &u_s[s * m..(s + 1) * m], pieces, out));
+        sections.for_each(|(s, out)| self.release(s, &u_s[s * m..(s + 1) * m], out));
     }
 
     /// The joint tangent of every (section, point) at the states of `ev`.
@@ -269,10 +287,13 @@ impl Setup<'_> {
                     let law = &self.laws[info.joint];
                     let h = self.history.as_ref().and_then(|h| h.get(k));
                     let trial = self.trial(info.joint, ev.d[k], h, self.t0(k));
-                    let law_tangent = match h {
-                        Some(h) => release_tangent(&effective_law(law, h), trial, ev.state[k]),
-                        None => release_tangent(law, trial, ev.state[k]),
-                    };
+                    let law_tangent = law_tangent(
+                        law,
+                        h,
+                        trial,
+                        ev.state[k],
+                        self.opening_rate(info.joint, &springs),
+                    );
                     *t = reference_tangent(law_tangent, &springs, &joint.assembled);
                 }
             });

@@ -1,14 +1,17 @@
 //! Proportional loading `lambda F` in steps with the history law
-//! ([`crate::joint_law::admissible_history`]), and the step control.
+//! ([`crate::joint_law::history_response`]), and the step control.
 //!
 //! Each step is solved by the scene's method on the elastic factors (no
 //! factorization per step), warm-started from the released forces of the
-//! last converged step. Within a step the law is continuous: an intact
-//! point carries tension elastically; once the step has converged, every
-//! intact point whose normal stress exceeds its tensile strength debonds
-//! and the step is solved again ("rounds", at most [`MAX_ROUNDS`]: the
-//! debonded set only grows). A converged step commits the history (plastic
-//! slip, debonding); a failed attempt leaves the committed state as it was.
+//! last converged step. Within a step the law is continuous
+//! ([`crate::joint_law::history_response`]: tension capped at the strength
+//! left, the shear strength of an opening pair fading with its opening);
+//! once the step has converged, every intact point whose trial normal
+//! stress exceeds its tensile strength debonds (loses it; the cohesion
+//! stays), and where that strength was not 0 the step is solved again
+//! ("rounds", at most [`MAX_ROUNDS`]: the debonded set only grows). A
+//! converged step commits the history (plastic slip, debonding); a failed
+//! attempt leaves the committed state as it was.
 //!
 //! Step control: the first increment is the whole load ([`crate::scene::Loading::Auto`]) or
 //! `1 / N`; a step that does not converge is cut back by half (the failed
@@ -25,9 +28,7 @@
 //! strength in it, it is solved again as two halves and retried at half
 //! size when they end more than [`PATH_TOL`] away from it (the first half
 //! is that attempt), else the halves are kept; if none did, it is
-//! converged the rest of the way. The first Newton step of every step and
-//! round linearizes at the last converged states (the predictor, used by
-//! the traction form).
+//! converged the rest of the way.
 //!
 //! The residual ratio of every step is relative to the same reference
 //! ([`Setup::reference_release`]: the released forces of the elastic
@@ -42,7 +43,7 @@ use super::{
     IterationSettings, Method, Outcome, Start,
 };
 use crate::fourier::Sections;
-use crate::joint_law::{commit, exceeds_tensile_strength, state_counts, JointState, PointHistory};
+use crate::joint_law::{commit, exceeds_tensile_strength, state_counts, PointHistory};
 use crate::linear::{HarmonicFactor, Model};
 use crate::loads::HarmonicLoads;
 use crate::scene::JointLaw;
@@ -365,18 +366,13 @@ fn commit_history(setup: &mut Setup, conv: &Converged) -> Vec<PointHistory> {
     hist
 }
 
-/// Where a step starts: the released forces, Newton's unknowns and (the
-/// predictor) the states of the last converged step `conv`; before the
-/// first, zero forces and every pair sticking.
+/// Where a step starts: the released forces and Newton's unknowns of the
+/// last converged step `conv`; before the first, zero forces.
 fn start_after(setup: &Setup, conv: Option<&Converged>, psi_ref: f64) -> Start {
     Start {
         x0: conv.map_or_else(|| vec![0.0; setup.len()], |c| c.x.clone()),
         y0: conv.map(|c| c.y.clone()),
         psi_ref: Some(psi_ref),
-        predictor: Some(conv.map_or_else(
-            || vec![JointState::Stick; setup.n_pairs()],
-            |c| c.ev.state.clone(),
-        )),
         u_s: None,
     }
 }
@@ -467,20 +463,14 @@ fn take_step(
     }
 }
 
-/// Whether a pair debonded from `committed` to `trial` whose law had
-/// strength to lose (cohesion or tensile strength): only then does the
-/// answer depend on where in the step it debonded (a pair without either
-/// behaves the same intact or debonded once the step has converged: open
-/// in tension, friction alone in compression).
+/// Whether a pair debonded from `committed` to `trial` whose law had a
+/// tensile strength to lose: only then does the answer depend on where in
+/// the step it debonded (debonding takes nothing else, so a pair without
+/// one behaves the same intact or debonded).
 fn lost_strength(setup: &Setup, committed: &[PointHistory], trial: &[PointHistory]) -> bool {
     let n_p = setup.points.len().max(1);
     committed.iter().zip(trial).enumerate().any(|(i, (c, t))| {
-        t.debonded
-            && !c.debonded
-            && match &setup.laws[setup.points[i % n_p].joint] {
-                JointLaw::MohrCoulomb(mc) => mc.cohesion > 0.0 || mc.tensile_strength > 0.0,
-                JointLaw::Linear => false,
-            }
+        t.debonded && !c.debonded && has_tensile_strength(&setup.laws[setup.points[i % n_p].joint])
     })
 }
 
@@ -498,7 +488,7 @@ fn polish(
 ) -> Result<Accepted, IterationError> {
     setup.history = Some(trial);
     let mut records = std::mem::take(&mut conv.history);
-    let start = Start::resume(conv, Some(psi_ref), None);
+    let start = Start::resume(conv, Some(psi_ref));
     let (mut conv, more) = solve_step(setup, start, settings, progress).map_err(|mut e| {
         e.prepend_history(&records);
         e
@@ -531,6 +521,11 @@ fn halves(
     let (c2, r2) = solve_step(setup, start, settings, progress)?;
     let h2 = commit_history(setup, &c2);
     Ok(((at.0, c1, r1, h1), (at.1, c2, r2, h2)))
+}
+
+/// Whether a law has a tensile strength to lose.
+fn has_tensile_strength(law: &JointLaw) -> bool {
+    matches!(law, JointLaw::MohrCoulomb(mc) if mc.tensile_strength > 0.0)
 }
 
 /// `|a - b| / |b|` (L2) of two section displacements of the joint nodes.
@@ -580,12 +575,15 @@ fn solve_step(
                 })
                 .collect()
         });
-        let debonded = breaking.len();
-        let mut predictor = conv.ev.state.clone();
+        // Debonding takes only the tensile strength: where it is 0 the law
+        // is the same before and after, and the step need not be solved again.
+        let debonded = breaking
+            .iter()
+            .filter(|&&i| has_tensile_strength(&setup.laws[setup.points[i % n_p].joint]))
+            .count();
         if let Some(hist) = setup.history.as_mut() {
             for i in breaking {
                 hist[i].debonded = true;
-                predictor[i] = JointState::Open;
             }
         }
         records.append(&mut conv.history);
@@ -593,7 +591,7 @@ fn solve_step(
             conv.history = records;
             return Ok((conv, round));
         }
-        start = Start::resume(conv, psi_ref, Some(predictor));
+        start = Start::resume(conv, psi_ref);
     }
     Err(IterationError::Rounds {
         rounds: MAX_ROUNDS,

@@ -36,10 +36,9 @@
 
 use super::formulation::{Formulation, NEWTON_HALVINGS_STIFF};
 use super::precondition::BlockPreconditioner;
-use super::release::{release_tangent, Eval, Tangent};
+use super::release::{law_tangent, Eval, Tangent};
 use super::setup::{JointAmplitudes, Setup};
 use super::Start;
-use crate::joint_law::{effective_law, JointState};
 use nalgebra::Matrix3;
 use rayon::prelude::*;
 
@@ -160,7 +159,7 @@ impl Formulation for Traction<'_, '_> {
             });
     }
 
-    fn residual(&self, y: &[f64], ev: &mut Eval, pieces: Option<&[JointState]>, res: &mut [f64]) {
+    fn residual(&self, y: &[f64], ev: &mut Eval, res: &mut [f64]) {
         let s = self.setup;
         let n_p = s.points.len().max(1);
         let m = s.per_section();
@@ -175,7 +174,8 @@ impl Formulation for Traction<'_, '_> {
                     let tau = &y[3 * k..3 * k + 3];
                     let dk = s.relative(i, &u_s[sec * m..(sec + 1) * m]);
                     let (t, z) = Self::carried(s, &self.rho, k, i, dk, tau);
-                    let (pk, st) = s.admissible(k, i, z, pieces.map(|p| p[k]), &mut out.broken[i]);
+                    let springs = &s.model.joints[s.points[i].joint].assembled;
+                    let (pk, st) = s.admissible((k, i), z, springs, &mut out.broken[i]);
                     let f = [0, 1, 2].map(|c| t[c] - pk[c]);
                     rs[3 * i..3 * i + 3].copy_from_slice(&f);
                     // The release in nodal form: what the model's spring and
@@ -215,10 +215,14 @@ impl Formulation for Traction<'_, '_> {
                 let joint = s.points[i].joint;
                 let (_, z) = Self::carried(s, rho, k, i, ev.d[k], &y[3 * k..3 * k + 3]);
                 let law = &s.laws[joint];
-                let e = match s.history.as_ref().and_then(|h| h.get(k)) {
-                    Some(h) => release_tangent(&effective_law(law, h), z, ev.state[k]),
-                    None => release_tangent(law, z, ev.state[k]),
-                }
+                let rate = s.opening_rate(joint, &s.model.joints[joint].assembled);
+                let e = law_tangent(
+                    law,
+                    s.history.as_ref().and_then(|h| h.get(k)),
+                    z,
+                    ev.state[k],
+                    rate,
+                )
                 .unwrap_or([[0.0; 3]; 3]);
                 let rho = rho[joint];
                 let ka = s.model.joints[joint].assembled;
@@ -301,12 +305,5 @@ impl Formulation for Traction<'_, '_> {
 
     fn halvings(&self) -> u32 {
         NEWTON_HALVINGS_STIFF
-    }
-
-    /// Measured on Scene P at k_eta h / E = 1e6 (before the path check):
-    /// 13 load steps with the predictor, 31 without (3440 / 4602 sweeps);
-    /// 1e2 to 1e5 within 10 % either way.
-    fn predicts(&self) -> bool {
-        true
     }
 }
