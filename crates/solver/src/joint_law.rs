@@ -38,7 +38,9 @@ pub enum JointState {
     Stick,
     /// Sliding at the Mohr-Coulomb strength.
     Slip,
-    /// Debonded: no traction.
+    /// Opening: the trial normal stress above the tensile strength left
+    /// (no traction under the paper's law; under the history law the
+    /// normal traction capped there and a fading shear strength).
     Open,
 }
 
@@ -120,8 +122,8 @@ fn shear_return(mc: &MohrCoulomb, t: [f64; 3]) -> ([f64; 3], JointState) {
 /// to the next under the history law.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct PointHistory {
-    /// The normal stress once exceeded the tensile strength: no cohesion
-    /// and no tensile strength since.
+    /// The normal stress once exceeded the tensile strength: no tensile
+    /// strength since (the cohesion stays).
     pub debonded: bool,
     /// Plastic slip `(s_xi, s_theta)` (length).
     pub slip: [f64; 2],
@@ -160,7 +162,8 @@ pub fn admissible_history(
 }
 
 /// [`admissible_history`] at the trial traction `t` (the
-/// [`relative_trial`] plus any initial traction).
+/// [`relative_trial`] plus any initial traction), an opening measured with
+/// the normal spring of `t` ([`history_response`] with `rho = 1`).
 pub fn admissible_history_trial(law: &JointLaw, t: [f64; 3], h: &PointHistory) -> ([f64; 3], JointState) {
     let r = history_response(law, t, h, 1.0);
     (r.traction, r.state)
@@ -198,15 +201,6 @@ pub struct Response {
 /// open joint). Debonding takes the tensile strength, not the cohesion:
 /// the paper's law, where a joint that closes again has `C` and `phi`.
 pub fn history_response(law: &JointLaw, t: [f64; 3], h: &PointHistory, rho: f64) -> Response {
-    let opening = match law {
-        JointLaw::MohrCoulomb(mc) => t[1] > if h.debonded { 0.0 } else { mc.tensile_strength },
-        JointLaw::Linear => false,
-    };
-    respond(law, t, h, rho, opening)
-}
-
-/// [`history_response`] on its opening (`opening`) or closed branch.
-fn respond(law: &JointLaw, t: [f64; 3], h: &PointHistory, rho: f64, opening: bool) -> Response {
     let mc = match law {
         JointLaw::Linear => {
             return Response {
@@ -220,6 +214,7 @@ fn respond(law: &JointLaw, t: [f64; 3], h: &PointHistory, rho: f64, opening: boo
     let tan_phi = mc.tan_phi();
     let t_left = if h.debonded { 0.0 } else { mc.tensile_strength };
     let sigma_t = t[1];
+    let opening = sigma_t > t_left;
     let (strength, slope) = if opening {
         (
             (mc.cohesion - t_left * tan_phi).max(0.0) - rho * (sigma_t - t_left),
