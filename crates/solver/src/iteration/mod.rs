@@ -220,7 +220,7 @@ pub struct Outcome {
 #[derive(Debug, thiserror::Error)]
 pub enum IterationError {
     /// The load exceeds what the joints can carry (the residual stalls or grows).
-    #[error("no equilibrium: {reason}; joint '{joint}' carries most of the unbalanced force ({open} open and {slip} slipping of {total} point-sections at iteration {iteration})")]
+    #[error("no equilibrium: {reason}; joint '{joint}' carries most of the unbalanced force (all joints: {open} open and {slip} slipping of {total} point-sections at iteration {iteration})")]
     NoEquilibrium {
         /// The joint with the largest residual.
         joint: String,
