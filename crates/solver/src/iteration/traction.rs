@@ -6,18 +6,21 @@
 //! displacement of `u_s = u_F + W G tau`, G the nodal forces of a traction).
 //! The law wants `t = P(t_trial)`, `t_trial = t0 + k (d - s)` (s the
 //! committed plastic slip), P its return map. Since P projects onto a
-//! convex set (the shear disk or box at a given normal stress, the
-//! compression half-line of a debonded point) and its normal cone is a
+//! convex set (the shear disk or box at a given strength, the normal
+//! traction below the tensile strength left) and its normal cone is a
 //! cone, `t = P(t_trial)` holds exactly when `t = P(z)` with
 //!
 //! ```text
 //! z = t + R (t_trial - t),   R = diag(k_a / k)
 //! ```
 //!
-//! so the residual is `F(tau) = t - P(z)`. Where `k = k_a` this is the
-//! nodal form's residual point by point (`z = t_trial`). Where `k >> k_a`
-//! it is the primal-dual active-set form of contact mechanics with the
-//! parameter `c = k_a` instead of k: a point's state follows
+//! so the residual is `F(tau) = t - P(z)`. The strength of an opening pair
+//! fades with `k_open (sigma_t - T') / k_eta`; at `z` the law measures it
+//! with `k_open / k_a` times `z_sigma - T' = (k_a / k) (sigma_t - T')`, the
+//! same strength where the pair opens (`t_sigma = T'`). Where `k = k_a`
+//! this is the nodal form's residual point by point (`z = t_trial`). Where
+//! `k >> k_a` it is the primal-dual active-set form of contact mechanics
+//! with the parameter `c = k_a` instead of k: a point's state follows
 //! `t + k_a (d - t / k)`, so a point predicted open that closes costs a
 //! residual of order `k_a d`, not `k d`. With the release tangent
 //! `E = d(z - P(z))/dz` and `T = I - E`,
