@@ -78,7 +78,8 @@ fn read_json(path: &Path) -> Value {
 }
 
 /// 1: a scene that is not JSON, one that does not exist, one naming a
-/// physical group the mesh lacks, one whose supports leave a mechanism.
+/// physical group the mesh lacks, one whose supports leave a mechanism,
+/// one with a modulus in another unit.
 #[test]
 fn input_errors_exit_1() {
     let dir = tempfile::tempdir().unwrap();
@@ -108,6 +109,17 @@ fn input_errors_exit_1() {
         &solve(&path, &out, &["--set", "size=0.5"]),
         1,
         &["singular", "check the supports"],
+    );
+
+    // The pile's modulus typed in another unit (x 1e9): the factorization
+    // fails on the contrast, and the message says so, not "the supports".
+    let mut scene = repo_scene("pile_footing_bonded.json");
+    scene["materials"]["pile"]["E"] = json!(2.0e13);
+    let path = write_scene(dir.path(), "modulus_unit", &scene);
+    assert_status(
+        &solve(&path, &out, &["--set", "size=0.5"]),
+        1,
+        &["singular", "range from 2.000e4 to 2.000e13", "another unit"],
     );
     assert!(!out.exists(), "no input error writes an output folder");
 }

@@ -89,6 +89,12 @@ impl HarmonicFactor {
     }
 }
 
+/// A ratio of stiffnesses (Young's moduli, joint springs times their
+/// element length) beyond which a singular factorization is put down to
+/// the contrast (a value typed in another unit) rather than to the
+/// supports.
+pub const STIFFNESS_CONTRAST: f64 = 1e8;
+
 /// A mesh with materials, joints and supports, ready to factorize.
 pub struct Model {
     /// The mesh (joints inserted).
@@ -597,7 +603,8 @@ impl Model {
         out
     }
 
-    /// Bodies of the connected parts that have no support at all.
+    /// Bodies of the connected parts that have no support at all, or a
+    /// stiffness contrast beyond [`STIFFNESS_CONTRAST`].
     fn unsupported_hint(&self) -> String {
         let mesh = &self.mesh;
         let n = mesh.nodes.len();
@@ -642,7 +649,35 @@ impl Model {
             }
         }
         if free.is_empty() {
-            "check the supports (a rigid-body motion of this harmonic is not restrained)".into()
+            // Moduli, and joint springs times their mean element length.
+            let joints = mesh.joints.iter().zip(&self.joints).filter_map(|(j, props)| {
+                let k = props.assembled;
+                let k = k.k_xi.min(k.k_eta).min(k.k_theta);
+                let h = j
+                    .elements
+                    .iter()
+                    .map(|e| {
+                        let (a, b) = (mesh.nodes[e.bottom[0]], mesh.nodes[e.bottom[1]]);
+                        (b[0] - a[0]).hypot(b[1] - a[1])
+                    })
+                    .sum::<f64>()
+                    / j.elements.len().max(1) as f64;
+                (k > 0.0 && h > 0.0).then_some(k * h)
+            });
+            let (lo, hi) = self
+                .materials
+                .iter()
+                .map(|m| m.e)
+                .chain(joints)
+                .fold((f64::INFINITY, 0.0f64), |(lo, hi), e| (lo.min(e), hi.max(e)));
+            if lo > 0.0 && hi / lo > STIFFNESS_CONTRAST {
+                format!(
+                    "the stiffnesses (Young's moduli, and joint springs times their element length) range from {lo:.3e} to {hi:.3e}, a factor {:.1e}: more than the arithmetic resolves; is a modulus or a spring in another unit? (else check the supports: a rigid-body motion of this harmonic is not restrained)",
+                    hi / lo
+                )
+            } else {
+                "check the supports (a rigid-body motion of this harmonic is not restrained)".into()
+            }
         } else {
             format!("no support reaches bodies {}", free.join(", "))
         }
