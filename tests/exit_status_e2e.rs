@@ -12,6 +12,8 @@
 //! - 6 numerical failure: a one-shot run of the paper's method that stalls
 //!   on a stiff joint, a stepped run that stops short of the whole load
 //!   for a reason other than capacity;
+//! - 0 with a closed or full stdout: the console is best effort, the files
+//!   are written;
 //! - 3 beyond capacity is tested in `load_path_e2e.rs`
 //!   (`beyond_capacity_stops_at_the_limit_load_factor`,
 //!   `one_shot_beyond_capacity_finds_no_equilibrium`), 2 (clap) needs no
@@ -282,4 +284,37 @@ fn the_documented_tables_agree() {
             "docs/loading.md's Exit status says \"{status} ({class}\""
         );
     }
+}
+
+/// A closed stdout (`axijoint run ... | head -1`) or a full one (`>
+/// /dev/full`) neither panics nor stops the run before its files are
+/// written: the console is best effort, the files are the result (exit 0,
+/// `summary.json` complete). `println!` panicked there (exit 101, no report).
+#[test]
+fn a_closed_or_full_stdout_does_not_stop_the_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = write_scene(dir.path(), "bonded", &repo_scene("pile_footing_bonded.json"));
+    let run = |name: &str, stdout: std::process::Stdio| {
+        let out = dir.path().join(name);
+        let mut child = Command::new(env!("CARGO_BIN_EXE_axijoint"))
+            .args(["run", path.to_str().unwrap(), "-o", out.to_str().unwrap()])
+            .args(["--set", "size=0.5"])
+            .env("AXIJOINT_CACHE", test_cache())
+            .stdout(stdout)
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .expect("axijoint runs");
+        // A closed pipe: its reading end dropped before the run prints.
+        drop(child.stdout.take());
+        let output = child.wait_with_output().unwrap();
+        let summary = read_json(&out.join("summary.json"));
+        (output, summary)
+    };
+    let (closed, summary) = run("closed", std::process::Stdio::piped());
+    assert_eq!(closed.status.code(), Some(0), "{}", text(&closed).1);
+    assert_eq!(summary["complete"], json!(true), "{summary}");
+    let full = std::fs::OpenOptions::new().write(true).open("/dev/full").unwrap();
+    let (full, summary) = run("full", full.into());
+    assert_eq!(full.status.code(), Some(0), "{}", text(&full).1);
+    assert_eq!(summary["complete"], json!(true), "{summary}");
 }

@@ -80,7 +80,7 @@ pub fn run(path: &Path, scene: &Scene, common: &CommonArgs, report: bool) -> Res
             }
         }
     }
-    println!(
+    crate::say!(
         "  load cases: {} in {} (index: {CASES_INDEX})",
         outcomes.len(),
         out.display()

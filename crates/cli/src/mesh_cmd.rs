@@ -85,16 +85,16 @@ pub fn run(args: &MeshArgs) -> Result<()> {
         let mut value = serde_json::to_value(&summary)?;
         value["source"] = serde_json::json!(args.input.display().to_string());
         value["reoriented_elements"] = serde_json::json!(validation.reoriented);
-        println!("{}", serde_json::to_string_pretty(&value)?);
+        crate::say!("{}", serde_json::to_string_pretty(&value)?);
     } else {
-        println!("{}", args.input.display());
+        crate::say!("{}", args.input.display());
         if validation.reoriented > 0 {
-            println!(
+            crate::say!(
                 "note: {} elements of clockwise surfaces renumbered counter-clockwise",
                 validation.reoriented
             );
         }
-        print!("{summary}");
+        crate::say_part!("{summary}");
     }
     Ok(())
 }

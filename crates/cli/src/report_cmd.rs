@@ -25,7 +25,7 @@ pub struct ReportArgs {
 pub fn report(dir: &Path, compare: &[PathBuf]) -> Result<()> {
     let files = write_outputs(dir, compare)?;
     print_estimates(dir);
-    println!(
+    crate::say!(
         "  report: {} files in {} (index: summary.json)",
         files.len(),
         dir.display()
@@ -157,7 +157,7 @@ fn print_estimates(dir: &Path) {
         .iter()
         .map(|(cut, t, e)| format!("{cut} theta {t}: {:.2} %", 100.0 * e))
         .collect();
-    println!(
+    crate::say!(
         "  estimated error: {}{:.2} % in the energy norm",
         if parts.is_empty() {
             String::new()
@@ -167,7 +167,7 @@ fn print_estimates(dir: &Path) {
         100.0 * energy
     );
     for (cut, t, e) in rows.iter().filter(|r| r.2 > ESTIMATE_WARNING || r.2.is_nan()) {
-        println!(
+        crate::say!(
             "  WARNING: cut {cut} at theta {t} deg: estimated error {:.1} % of its max |stress| (above {} %): refine the mesh there or set mesh.adapt (docs/accuracy.md)",
             100.0 * e,
             100.0 * ESTIMATE_WARNING

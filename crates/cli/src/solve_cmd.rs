@@ -306,8 +306,8 @@ pub fn without_joints(scene: &Scene) -> Scene {
 }
 
 pub fn print_summary(path: &Path, scene: &Scene, header: &SolutionHeader, out: &Path) {
-    println!("{}: {}", path.display(), scene.title);
-    println!(
+    crate::say!("{}: {}", path.display(), scene.title);
+    crate::say!(
         "  {} nodes, {} elements, {} unknowns per harmonic, harmonics 0..={}",
         header.mesh.nodes,
         header.mesh.elements,
@@ -315,13 +315,15 @@ pub fn print_summary(path: &Path, scene: &Scene, header: &SolutionHeader, out: &
         header.harmonics.last().copied().unwrap_or(0)
     );
     let t = &header.timings;
-    println!(
+    crate::say!(
         "  time: setup {:.3} s, assembly + factorization {:.3} s, solve {:.3} s",
-        t.setup, t.factorize, t.solve
+        t.setup,
+        t.factorize,
+        t.solve
     );
     if let Some(i) = &header.initial {
         let b = &i.balance;
-        println!(
+        crate::say!(
             "  initial phase: weight {:.6e} {f}, out-of-balance {:.3e} {f} ({:.2e} of the largest nodal force), {} iterations, max |u| {:.6e} {l} (displacements below are from its end)",
             b.weight,
             b.max_force,
@@ -332,14 +334,14 @@ pub fn print_summary(path: &Path, scene: &Scene, header: &SolutionHeader, out: &
             l = scene.units.length,
         );
         if b.relative > 0.01 {
-            println!(
+            crate::say!(
                 "  note: the initial stresses are not in balance with the weight and supports (above 1 %); the initial phase moved the model to balance them"
             );
         }
     }
     if let Some(h) = header.extra.get("history").and_then(|h| h.as_array()) {
         if let Some(last) = h.last() {
-            println!(
+            crate::say!(
                 "  iteration: {} iterations, residual ratio {:.3e} (epsilon {:.1e}); open {}, slip {}, stick {} point-sections",
                 h.len(),
                 last["ratio"].as_f64().unwrap_or(f64::NAN),
@@ -353,7 +355,7 @@ pub fn print_summary(path: &Path, scene: &Scene, header: &SolutionHeader, out: &
     if let Some(steps) = header.extra["load_path"]["steps"].as_array() {
         let solves: u64 = steps.iter().filter_map(|s| s["solves"].as_u64()).sum();
         let cutbacks: u64 = steps.iter().filter_map(|s| s["cutbacks"].as_u64()).sum();
-        println!(
+        crate::say!(
             "  load path: {} converged steps to load factor {:.4} ({} solves, {} cut-backs)",
             steps.len(),
             header.extra["load_factor"].as_f64().unwrap_or(f64::NAN),
@@ -367,7 +369,7 @@ pub fn print_summary(path: &Path, scene: &Scene, header: &SolutionHeader, out: &
         } else {
             "STOPPED (not a limit load) at load factor"
         };
-        println!(
+        crate::say!(
             "  {what} {:.4}: the load factor {:.4} failed ({}); every result below is that of the last converged step",
             limit["factor"].as_f64().unwrap_or(f64::NAN),
             limit["failed_at"].as_f64().unwrap_or(f64::NAN),
@@ -376,7 +378,7 @@ pub fn print_summary(path: &Path, scene: &Scene, header: &SolutionHeader, out: &
     }
     if let Some(c) = header.extra.get("harmonic_check").filter(|c| !c.is_null()) {
         match (c["face_change"].as_f64(), c["area_change"].as_f64()) {
-            (Some(f), Some(a)) => println!(
+            (Some(f), Some(a)) => crate::say!(
                 "  harmonics: 0..={} against 0..={}: {} changes {f:.2e}, joint open/slip area {a:.2e} (relative)",
                 c["m"],
                 c["m_half"],
@@ -386,7 +388,7 @@ pub fn print_summary(path: &Path, scene: &Scene, header: &SolutionHeader, out: &
                     "the displacement field"
                 }
             ),
-            _ => println!(
+            _ => crate::say!(
                 "  harmonics: no comparison with 0..={}: that run did not converge (reason in solution.json, extra.harmonic_check)",
                 c["m_half"]
             ),
@@ -404,7 +406,7 @@ pub fn print_summary(path: &Path, scene: &Scene, header: &SolutionHeader, out: &
                     .collect()
             })
             .unwrap_or_default();
-        println!(
+        crate::say!(
             "  harmonics chosen automatically: M = {} (profile change < {} ; steps {})",
             a["chosen"],
             a["tolerance"],
@@ -413,24 +415,38 @@ pub fn print_summary(path: &Path, scene: &Scene, header: &SolutionHeader, out: &
     }
     let u = &scene.units;
     for (face, d) in &header.loaded_faces {
-        println!(
+        crate::say!(
             "  {face}: mean displacement (ux, uy, uz) = ({:.6e}, {:.6e}, {:.6e}) {}",
-            d[0], d[1], d[2], u.length
+            d[0],
+            d[1],
+            d[2],
+            u.length
         );
     }
-    println!("  max |u| = {:.6e} {}", header.max_displacement, u.length);
+    crate::say!("  max |u| = {:.6e} {}", header.max_displacement, u.length);
     let a = &header.applied;
-    println!(
+    crate::say!(
         "  applied   F = ({:+.6e}, {:+.6e}, {:+.6e})  M = ({:+.6e}, {:+.6e}, {:+.6e})",
-        a.force[0], a.force[1], a.force[2], a.moment[0], a.moment[1], a.moment[2]
+        a.force[0],
+        a.force[1],
+        a.force[2],
+        a.moment[0],
+        a.moment[1],
+        a.moment[2]
     );
     for r in &header.reactions {
-        println!(
+        crate::say!(
             "  reaction  F = ({:+.6e}, {:+.6e}, {:+.6e})  M = ({:+.6e}, {:+.6e}, {:+.6e})  on {}",
-            r.force[0], r.force[1], r.force[2], r.moment[0], r.moment[1], r.moment[2], r.on
+            r.force[0],
+            r.force[1],
+            r.force[2],
+            r.moment[0],
+            r.moment[1],
+            r.moment[2],
+            r.on
         );
     }
-    println!("  written to {}", out.display());
+    crate::say!("  written to {}", out.display());
 }
 
 /// The load could not be raised to the whole load: every output was
@@ -563,7 +579,7 @@ pub fn run_run(args: &RunArgs) -> Result<()> {
         comparison?;
         let dir = out.join(WITHOUT_JOINTS);
         std::fs::rename(side.path().join(WITHOUT_JOINTS), &dir)?;
-        println!("  comparison without joints: {}", dir.display());
+        crate::say!("  comparison without joints: {}", dir.display());
     }
     crate::report_cmd::report(&out, &[])?;
     check_limit(&header, &out)

@@ -176,7 +176,7 @@ pub fn solve_adaptive(
                 .is_some_and(|m| m.iter().all(|&m| m <= adapt.target))
     });
     if !reached {
-        println!(
+        crate::say!(
             "  WARNING: mesh.adapt did not reach {} % on every profile, confirmed by a change below it from the cycle before, in {} cycles (docs/accuracy.md)",
             100.0 * adapt.target,
             adapt.max_cycles
@@ -230,7 +230,7 @@ fn print_cycle(k: usize, c: &Cycle) {
             None => format!("{cut} {t}: {:.2} %", 100.0 * e),
         })
         .collect();
-    println!(
+    crate::say!(
         "  adapt cycle {k}: {} unknowns per harmonic ({} nodes); estimated {}; energy norm {:.2} %; {:.2} s",
         c.dofs,
         c.nodes,
