@@ -215,6 +215,22 @@ pub struct Joint {
     pub duplicated: Vec<(usize, usize)>,
 }
 
+impl Joint {
+    /// Mean length of its elements (their end nodes' chord) at the node
+    /// coordinates `nodes`; 0 without elements.
+    pub fn mean_length(&self, nodes: &[[f64; 2]]) -> f64 {
+        let total: f64 = self
+            .elements
+            .iter()
+            .map(|e| {
+                let (a, b) = (nodes[e.bottom[0]], nodes[e.bottom[1]]);
+                (b[0] - a[0]).hypot(b[1] - a[1])
+            })
+            .sum();
+        total / self.elements.len().max(1) as f64
+    }
+}
+
 /// A meridional mesh: nodes in (r, z), bodies, boundary sets and joints.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Mesh {

@@ -64,16 +64,7 @@ fn reference_springs(
     materials: &[crate::material::Elastic],
     k: crate::elements::JointSprings,
 ) -> crate::elements::JointSprings {
-    let n = joint.elements.len().max(1) as f64;
-    let h: f64 = joint
-        .elements
-        .iter()
-        .map(|e| {
-            let (a, b) = (mesh.nodes[e.bottom[0]], mesh.nodes[e.bottom[1]]);
-            (b[0] - a[0]).hypot(b[1] - a[1])
-        })
-        .sum::<f64>()
-        / n;
+    let h = joint.mean_length(&mesh.nodes);
     let e = joint
         .bottom_bodies
         .iter()

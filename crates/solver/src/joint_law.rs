@@ -129,18 +129,6 @@ pub struct PointHistory {
     pub slip: [f64; 2],
 }
 
-/// The law a pair with history `h` follows: `law` itself, or with `T = 0`
-/// once debonded (the cohesion stays: the paper's law).
-pub fn effective_law(law: &JointLaw, h: &PointHistory) -> JointLaw {
-    match law {
-        JointLaw::MohrCoulomb(mc) if h.debonded => JointLaw::MohrCoulomb(MohrCoulomb {
-            tensile_strength: 0.0,
-            ..*mc
-        }),
-        _ => *law,
-    }
-}
-
 /// The trial traction relative to the plastic slip of `h`:
 /// `(k_xi (d_xi - s_xi), k_eta d_eta, k_theta (d_theta - s_theta))` (add
 /// the initial traction, if any).

@@ -653,15 +653,7 @@ impl Model {
             let joints = mesh.joints.iter().zip(&self.joints).filter_map(|(j, props)| {
                 let k = props.assembled;
                 let k = k.k_xi.min(k.k_eta).min(k.k_theta);
-                let h = j
-                    .elements
-                    .iter()
-                    .map(|e| {
-                        let (a, b) = (mesh.nodes[e.bottom[0]], mesh.nodes[e.bottom[1]]);
-                        (b[0] - a[0]).hypot(b[1] - a[1])
-                    })
-                    .sum::<f64>()
-                    / j.elements.len().max(1) as f64;
+                let h = j.mean_length(&mesh.nodes);
                 (k > 0.0 && h > 0.0).then_some(k * h)
             });
             let (lo, hi) = self

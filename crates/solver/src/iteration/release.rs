@@ -73,7 +73,7 @@ impl Eval {
 /// The joint tangent at one (section, point): the derivative of the
 /// released traction `k d - P(k d)` with respect to the trial traction
 /// `k d`; `None` for a sticking point (nothing released, derivative 0).
-pub(super) type Tangent = Option<[[f64; 3]; 3]>;
+pub(super) type Tangent = crate::joint_law::ReleaseTangent;
 
 /// The derivative of the released traction `e(t) = t - P(t)` of
 /// [`admissible`] (t the trial traction `k d`) at the state it gave:
