@@ -95,8 +95,7 @@ fn solution_reads_back_identically() {
     // The face average recomputed from the saved amplitudes equals the
     // header's (to rounding: the saved mesh's coordinates are read back from
     // the text of mesh.msh).
-    let d =
-        axijoint_solver::driver::face_displacement(&saved.mesh, "pile_end", &saved.displacements).unwrap();
+    let d = axijoint_solver::run::face_displacement(&saved.mesh, "pile_end", &saved.displacements).unwrap();
     let header = v["loaded_faces"]["pile_end"][0].as_f64().unwrap();
     assert!((d[0] / header - 1.0).abs() < 1e-12, "{} vs {header}", d[0]);
     // A truncated displacement file is refused, naming it.

@@ -15,6 +15,7 @@ use crate::measure::{run_measured, Measured};
 use crate::peer3d::{self as peer, PeerOptions, PeerVariant};
 use crate::profile::Profile;
 use anyhow::{bail, Context, Result};
+use axijoint_solver::results::SolutionHeader;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -280,19 +281,17 @@ struct SolutionInfo {
 fn solution_info(dir: &Path) -> Result<SolutionInfo> {
     let path = dir.join("solution.json");
     let text = std::fs::read_to_string(&path).with_context(|| format!("cannot read {}", path.display()))?;
-    let j: serde_json::Value = serde_json::from_str(&text)?;
-    let extra = &j["extra"];
-    let as_usize = |v: &serde_json::Value| v.as_u64().map(|x| x as usize);
-    let solves = extra["history"].as_array().map(|h| {
-        h.iter()
-            .map(|it| it["solves"].as_u64().unwrap_or(1) as usize)
-            .sum::<usize>()
-    });
+    let header: SolutionHeader =
+        serde_json::from_str(&text).with_context(|| format!("cannot read {}", path.display()))?;
+    let record = header.record.unwrap_or_default();
     Ok(SolutionInfo {
-        dof_per_harmonic: as_usize(&j["dofs_per_harmonic"]),
-        iterations: as_usize(&extra["iterations"]),
-        solves,
-        sections: extra["sections_deg"].as_array().map(Vec::len),
+        dof_per_harmonic: Some(header.dofs_per_harmonic),
+        iterations: record.iterations,
+        solves: record
+            .history
+            .as_ref()
+            .map(|h| h.iter().map(|it| it.solves as usize).sum::<usize>()),
+        sections: record.sections_deg.as_ref().map(Vec::len),
     })
 }
 

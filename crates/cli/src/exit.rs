@@ -34,7 +34,7 @@ fn class_of(c: &(dyn std::error::Error + 'static)) -> Option<u8> {
     use axijoint_solver::iteration::IterationError;
     use axijoint_solver::linear::SolveError;
     use axijoint_solver::scene::SceneError;
-    if let Some(l) = c.downcast_ref::<crate::solve_cmd::LimitReached>() {
+    if let Some(l) = c.downcast_ref::<crate::app::solve::LimitReached>() {
         return Some(if l.beyond_capacity {
             BEYOND_CAPACITY
         } else {

@@ -1,10 +1,17 @@
-//! The `axijoint` commands as a library: the code the binary runs, for
+//! The `axijoint` application as a library: the code the binary runs, for
 //! other front ends (the Python package, `crates/python`).
 //!
-//! The binary (`src/main.rs`) prints and picks exit statuses; these modules
-//! do the work: [`solve_cmd::solve_to`] solves a scene into a solution
-//! folder, [`report_cmd::write_outputs`] writes the report and
-//! `summary.json`.
+//! ```text
+//! main.rs                      arguments -> command -> exit status
+//! mesh_cmd, solve_cmd, report_cmd   a command's arguments, read into a scene and options
+//! app                          run: solve (or load cases), comparison, report
+//! exit                         the exit status of an error
+//! ```
+//!
+//! [`app::run`] solves a scene (or its load cases) into a solution folder,
+//! with the comparison without joints and the report as its
+//! [`app::Options`] ask; [`app::report::write_outputs`] writes the report
+//! and `summary.json` of a saved folder.
 
 /// Prints a line to stdout, best effort: a closed or full stdout (`| head`,
 /// `> /dev/full`) must not stop a run before its files are written (the
@@ -26,7 +33,7 @@ macro_rules! say_part {
     }};
 }
 
-pub mod cases_cmd;
+pub mod app;
 pub mod exit;
 pub mod mesh_cmd;
 pub mod report_cmd;

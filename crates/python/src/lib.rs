@@ -1,16 +1,16 @@
 //! `axijoint._native`: the Rust half of the Python package `axijoint`
 //! (`crates/python/python/axijoint`, docs/python.md).
 //!
-//! `run` does what `axijoint run` does, with the binary's own code
-//! (`axijoint_cli`): it solves a scene into a solution folder, the same
-//! scene without joints beside it, and writes the report and
-//! `summary.json`, with the GIL released. A failure raises
+//! `run` does what `axijoint run` does, through the binary's own
+//! application layer (`axijoint_cli::app::run`): it solves a scene (or
+//! each of its load cases) into a solution folder, the same scene without
+//! joints beside it, and writes the report and `summary.json`, with the
+//! GIL released and nothing printed. A failure raises
 //! `axijoint.Error` (a subclass per exit status of the binary) with the
 //! binary's message and `exit_status`.
 
+use axijoint_cli::app;
 use axijoint_cli::exit::{exit_status, BEYOND_CAPACITY, GMSH_FAILURE, IO_ERROR, NUMERICAL_FAILURE};
-use axijoint_cli::{report_cmd, solve_cmd};
-use axijoint_solver::results::read_solution;
 use axijoint_solver::scene::Scene;
 use pyo3::create_exception;
 use pyo3::exceptions::PyException;
@@ -94,22 +94,19 @@ fn solve(
         Some(t) => Scene::from_str(t, path)?,
         None => Scene::from_path(path)?,
     };
-    if let Err(e) = solve_cmd::solve_to(&scene, out, true) {
-        // As `axijoint run`: a stopped one-shot run wrote its last iterate;
-        // report it too.
-        if report && read_solution(out).is_ok_and(|s| s.header.extra["converged"] == false) {
-            report_cmd::write_outputs(out, &[])?;
-        }
-        return Err(e);
+    let options = app::Options {
+        output: out.to_path_buf(),
+        quiet: true,
+        compare: without_joints.unwrap_or(scene.outputs.compare_without_joints),
+        report,
+        print: false,
+    };
+    match app::run(path, &scene, &options) {
+        // A stepped run that stopped short is a result here (every output
+        // is written; `Result.complete` tells).
+        Err(e) if e.downcast_ref::<app::solve::LimitReached>().is_some() => Ok(()),
+        r => r,
     }
-    if without_joints.unwrap_or(scene.outputs.compare_without_joints) && !scene.joints.is_empty() {
-        let bonded = solve_cmd::without_joints(&scene);
-        solve_cmd::solve_to(&bonded, &out.join(solve_cmd::WITHOUT_JOINTS), true)?;
-    }
-    if report {
-        report_cmd::write_outputs(out, &[])?;
-    }
-    Ok(())
 }
 
 /// The Python exception of a failure: its class and `exit_status` are

@@ -4,9 +4,9 @@
 use crate::cuts::CutRow;
 use crate::error::ReportError;
 use crate::field::STRESS_NAMES;
-use axijoint_solver::driver::LoadPath;
 use axijoint_solver::iteration::IterationRecord;
 use axijoint_solver::results::JointFieldFile;
+use axijoint_solver::results::LoadPath;
 use std::path::Path;
 
 /// Writes rows through a temporary file renamed into place, refusing

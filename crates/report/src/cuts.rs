@@ -239,7 +239,7 @@ pub fn profile(
 pub fn profile_values(
     scene: &axijoint_solver::scene::Scene,
     mesh: &Mesh,
-    u: &axijoint_solver::driver::Displacements,
+    u: &axijoint_solver::solution::Displacements,
 ) -> Vec<f64> {
     let materials: Vec<_> = mesh
         .bodies

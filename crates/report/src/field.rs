@@ -3,10 +3,10 @@
 
 use axijoint_mesh::shapes::MAX_CELL_NODES;
 use axijoint_mesh::{geometry::jacobian, CellKind, Mesh};
-use axijoint_solver::driver::Displacements;
 use axijoint_solver::elements::StrainPoint;
 use axijoint_solver::material::Elastic;
 use axijoint_solver::scene::InitialStress;
+use axijoint_solver::solution::Displacements;
 use rstar::{RTree, RTreeObject, AABB};
 
 /// The nodal values of `u` (3 per node) at `nodes`, into `out`.

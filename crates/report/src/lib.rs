@@ -33,8 +33,8 @@ pub mod vtu;
 
 pub use error::ReportError;
 
-use axijoint_solver::driver::LoadPath;
 use axijoint_solver::iteration::IterationRecord;
+use axijoint_solver::results::LoadPath;
 use axijoint_solver::results::{read_joint_field, SavedSolution};
 use axijoint_solver::scene::VtuSections;
 use std::path::{Path, PathBuf};
@@ -71,23 +71,13 @@ fn materials(saved: &SavedSolution) -> Result<Vec<axijoint_solver::material::Ela
 }
 
 /// The iteration history saved in a solution's header, if any.
-pub fn history(saved: &SavedSolution) -> Result<Option<Vec<IterationRecord>>, ReportError> {
-    saved
-        .header
-        .extra
-        .get("history")
-        .map(|h| serde_json::from_value(h.clone()).map_err(|e| ReportError::Input(format!("history: {e}"))))
-        .transpose()
+pub fn history(saved: &SavedSolution) -> Option<&[IterationRecord]> {
+    saved.header.record.as_ref()?.history.as_deref()
 }
 
 /// The load path of a stepped run, if the solution has one.
-pub fn load_path(saved: &SavedSolution) -> Result<Option<LoadPath>, ReportError> {
-    saved
-        .header
-        .extra
-        .get("load_path")
-        .map(|h| serde_json::from_value(h.clone()).map_err(|e| ReportError::Input(format!("load_path: {e}"))))
-        .transpose()
+pub fn load_path(saved: &SavedSolution) -> Option<&LoadPath> {
+    saved.header.record.as_ref()?.load_path.as_ref()
 }
 
 /// One output of the report: writes its files and returns their names.
@@ -119,7 +109,7 @@ pub fn write_report(
         initial: field::Initial::of(saved),
     };
     // The initial state alone (its own cut files).
-    let no_displacement = axijoint_solver::driver::Displacements {
+    let no_displacement = axijoint_solver::solution::Displacements {
         harmonics: Vec::new(),
     };
     let initial_field = field.initial.as_ref().map(|init| field::Field {
@@ -142,8 +132,8 @@ pub fn write_report(
         f
     };
     let joints = read_joint_field(dir).map_err(|e| ReportError::Input(e.to_string()))?;
-    let history = history(saved)?;
-    let path = load_path(saved)?;
+    let history = history(saved);
+    let path = load_path(saved);
     // One estimate for the cut errors and the `.vtu`'s cell errors.
     let estimate = OnceLock::new();
     // A cut's files; `other`: the run without joints and its locator.

@@ -15,8 +15,8 @@ use axijoint_mesh::geometry::{interpolate, jacobian};
 use axijoint_mesh::shapes::MAX_CELL_NODES;
 use axijoint_report::estimate::{cut_error, Estimate};
 use axijoint_report::field::{Field, Locator};
-use axijoint_solver::driver::solve_linear;
 use axijoint_solver::material::Elastic;
+use axijoint_solver::run::solve_linear;
 use axijoint_solver::scene::Scene;
 use std::f64::consts::PI;
 use std::path::Path;
@@ -59,7 +59,7 @@ fn measure(order: u32, quads: u32, size: f64, transfinite: u32) -> Row {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../geo");
     let scene = Scene::from_str(&text, dir.join("estimate_lame.json")).expect("scene");
     let run = solve_linear(&scene, None, false).expect("Lame tube");
-    let mesh = &run.model.mesh;
+    let mesh = &run.problem.model.mesh;
     let mats = vec![Elastic::new(E, NU).unwrap()];
     let field = Field {
         mesh,

@@ -17,10 +17,11 @@ use axijoint_report::field::Field;
 use axijoint_report::gmsh_view::{view_name, write_gmsh_view};
 use axijoint_report::vtu::{auto_sections, joints_path, read_vtu, write_vtu};
 use axijoint_report::ReportError;
-use axijoint_solver::driver::{solve_scene, Displacements, HarmonicDisplacement};
 use axijoint_solver::material::Elastic;
 use axijoint_solver::results::JointFieldFile;
+use axijoint_solver::run::solve_scene;
 use axijoint_solver::scene::{Outputs, Scene};
+use axijoint_solver::solution::{Displacements, HarmonicDisplacement};
 use std::collections::HashMap;
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
@@ -822,14 +823,14 @@ fn scene_p_views() {
     scene.mesh.parameters.insert("size".into(), 0.5);
     let run = solve_scene(&scene, None, |_| {}).expect("Scene P solves");
     let outcome = run.outcome.as_ref().expect("Scene P iterates");
-    let model = &run.linear.model;
+    let model = &run.problem.model;
     let mesh = &model.mesh;
     let springs: Vec<_> = model.joints.iter().map(|j| j.springs).collect();
     let jf = JointFieldFile::new(mesh, &springs, &outcome.field);
     let field = Field {
         mesh,
         materials: &model.materials,
-        u: &run.linear.displacements,
+        u: &run.displacements,
         initial: None,
     };
     let dir = tempfile::tempdir().unwrap();
@@ -1084,7 +1085,7 @@ fn scene_p_linear_joint_quads() {
     }
     let run = solve_scene(&scene, None, |_| {}).expect("Scene P solves");
     let outcome = run.outcome.as_ref().expect("Scene P iterates");
-    let model = &run.linear.model;
+    let model = &run.problem.model;
     let mesh = &model.mesh;
     assert!(mesh.cells.iter().all(|c| c.kind == CellKind::Tri3));
     let springs: Vec<_> = model.joints.iter().map(|j| j.springs).collect();
@@ -1092,7 +1093,7 @@ fn scene_p_linear_joint_quads() {
     let field = Field {
         mesh,
         materials: &model.materials,
-        u: &run.linear.displacements,
+        u: &run.displacements,
         initial: None,
     };
     let dir = tempfile::tempdir().unwrap();

@@ -31,9 +31,9 @@
 //!   through `Model::solve` and through faer directly, with both settings.
 
 use axijoint_solver::assembly::Pattern;
-use axijoint_solver::driver::{build_model, mesh_scene};
 use axijoint_solver::elements::{joint_stiffness, solid_stiffness, SolidScratch};
 use axijoint_solver::linear::Model;
+use axijoint_solver::run::{build_model, mesh_scene};
 use axijoint_solver::scene::Scene;
 use faer::linalg::solvers::Solve;
 use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};

@@ -33,7 +33,7 @@
 //! `est_peak_mb` (the peak this run was expected to reach) and
 //! `mem_available_mb` (`MemAvailable` when it started).
 //!
-//! Before factorizing, the driver estimates the memory the M + 1 kept
+//! Before factorizing, the run estimates the memory the M + 1 kept
 //! factors need (from nnz(L) of the symbolic factorization) and refuses to
 //! run (exit code 3, a message on stderr) when it exceeds what the machine
 //! has available less a 1 GiB reserve; `--no-mem-check` skips the check.
@@ -48,7 +48,7 @@
 //! ```
 
 use axijoint_solver::assembly::Pattern;
-use axijoint_solver::driver::{build_model, mesh_scene};
+use axijoint_solver::run::{build_model, mesh_scene};
 use axijoint_solver::scene::Scene;
 use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, SymbolicCholeskyRaw};
 use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
@@ -236,7 +236,7 @@ fn run(args: &Args) -> Result<String, Failure> {
     let setup_cpu_s = cpu_seconds() - c;
     let pattern = model.pattern().clone();
     if pattern.nnz() != model.nnz() {
-        return Err("the driver's pattern differs from the model's".into());
+        return Err("the model's own pattern differs from the model's".into());
     }
     let (nnz_l, supernodal) = factor_size(&pattern);
     eprintln!(

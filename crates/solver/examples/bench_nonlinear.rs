@@ -7,7 +7,7 @@
 //! scene format's defaults for the iteration (the scene's explicit
 //! `sections` and `solver` are dropped: dealiased 2M + 1 sections,
 //! `solver.method` as given by `--methods`, `epsilon` from `--epsilon`), the
-//! phases of `driver::solve_scene` are timed one by one through the library:
+//! phases of `run::solve_scene` are timed one by one through the library:
 //!
 //! - the linear solve, what a linear scene costs once meshed (meshing by
 //!   gmsh excluded, reported as `mesh_s`): `assemble_loads` (`loads_s`),
@@ -40,7 +40,7 @@
 //! busy meanwhile (from `/proc/stat`; above ~0.2 the wall times are
 //! inflated), `peak_mb` the process's RSS high-water mark (MiB).
 //!
-//! `--end-to-end` also runs `driver::solve_scene` itself on each variant and
+//! `--end-to-end` also runs `run::solve_scene` itself on each variant and
 //! method (meshing included: `e2e_s`) and reports its iterations
 //! (`e2e_iterations`), a check that the phases above are what the library
 //! does.
@@ -52,14 +52,14 @@
 //! cargo run --release -p axijoint-solver --example bench_nonlinear -- --print-header
 //! ```
 
-use axijoint_solver::driver::{
-    build_model, iteration_settings, mesh_scene, reactions, scene_sections, solve_loads, solve_scene,
-    Displacements,
-};
 use axijoint_solver::iteration::{stress_transfer_from, stress_transfer_stepped, Outcome, StepControl};
 use axijoint_solver::linear::{HarmonicFactor, Model};
 use axijoint_solver::loads::{assemble_loads, HarmonicLoads};
+use axijoint_solver::run::{
+    build_model, iteration_settings, mesh_scene, reactions, scene_sections, solve_loads, solve_scene,
+};
 use axijoint_solver::scene::{JointLaw, Loading, Scene, SolverMethod, SolverSettings};
+use axijoint_solver::solution::Displacements;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
@@ -209,8 +209,8 @@ fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
-/// The stress-transfer iteration with harmonics 0..=m, as the driver runs it.
-/// The elastic solution `elastic` is reused, as the driver does.
+/// The stress-transfer iteration with harmonics 0..=m, as a run does it.
+/// The elastic solution `elastic` is reused, as a run does.
 #[allow(clippy::too_many_arguments)]
 fn iterate(
     scene: &Scene,

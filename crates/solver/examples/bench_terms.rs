@@ -20,8 +20,8 @@
 //! ```
 
 use axijoint_solver::assembly::StiffnessTerms;
-use axijoint_solver::driver::{build_model, mesh_scene};
 use axijoint_solver::linear::Model;
+use axijoint_solver::run::{build_model, mesh_scene};
 use axijoint_solver::scene::Scene;
 use rayon::prelude::*;
 use std::path::PathBuf;

@@ -3,7 +3,7 @@
 //!
 //! `cargo run --release -p axijoint-solver --example methods -- [size] [eps]`
 
-use axijoint_solver::driver::{solve_linear, solve_scene};
+use axijoint_solver::run::{solve_linear, solve_scene};
 use axijoint_solver::scene::{Scene, SolverMethod};
 use std::path::Path;
 use std::time::Instant;

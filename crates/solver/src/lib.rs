@@ -22,10 +22,22 @@
 //! | [`solution::Displacements`] | displacement amplitudes of every harmonic ([`solution::HarmonicDisplacement`]); with [`solution::SupportReaction`] and [`solution::Timings`] the solution types |
 //!
 //! Element DOFs: 3 per node, `(u, v, w)`, node-major `[u0, v0, w0, u1, ...]`.
+//!
+//! The stages, each module using only those above it (docs/architecture.md):
+//!
+//! ```text
+//! scene/                      the JSON input, checked against the mesh
+//! material, elements/, dofs,  element matrices, the DOF numbering,
+//!   assembly, linear, factor    K_m = c_m (A + m B + m^2 C), the factors per harmonic
+//! loads, initial              nodal forces per harmonic; the initial stresses' load
+//! fourier, joint_law          sections and harmonics; the joint law at a point
+//! iteration/                  the stress-transfer iteration (one-shot or stepped)
+//! solution, results/          the solution's values; the solution folder and run record
+//! run/                        scene -> model -> factors -> elastic run -> iteration -> Run
+//! ```
 
 pub mod assembly;
 pub mod dofs;
-pub mod driver;
 pub mod elements;
 pub mod error;
 mod factor;
@@ -37,5 +49,6 @@ pub mod linear;
 pub mod loads;
 pub mod material;
 pub mod results;
+pub mod run;
 pub mod scene;
 pub mod solution;

@@ -1,7 +1,6 @@
 //! The solution types: displacement amplitudes per harmonic, support
 //! reactions and timings. A leaf module (it uses no other module of the
-//! crate): `driver` makes these values (and re-exports the types under their
-//! old paths), `iteration` and `results` use them.
+//! crate): `run` makes these values, `iteration` and `results` use them.
 
 use serde::{Deserialize, Serialize};
 

@@ -47,8 +47,8 @@
 //! form assumes: -0.3 % at h = 0.25 and 0.125, `Q_u` inside the bracket
 //! `[factor, failed_at]` of the limit load factor (docs/loading.md).
 
-use axijoint_solver::driver::{solve_scene, Run};
 use axijoint_solver::joint_law::JointState;
+use axijoint_solver::run::{solve_scene, Run};
 use axijoint_solver::scene::Scene;
 use std::f64::consts::PI;
 use std::path::PathBuf;
@@ -171,7 +171,7 @@ fn elastic_normal_stresses_change_the_capacity() {
     let (w, q_u) = friction_cylinder();
     // Strength of the vertical joints at the last converged step, at their
     // own normal stresses (axisymmetric: the first section is every one).
-    let mesh = &run.linear.model.mesh;
+    let mesh = &run.problem.model.mesh;
     let field = &run.outcome.as_ref().expect("a nonlinear run").field;
     let tan_phi = PHI.to_radians().tan();
     let (mut strength, mut open_top) = (0.0, false);

@@ -14,8 +14,8 @@
 //! difference decays within about a radius); Q9 reproduces it (quadratic u).
 
 use axijoint_mesh::geometry::interpolate;
-use axijoint_solver::driver::{solve_scene, Run};
 use axijoint_solver::elements::stress_at;
+use axijoint_solver::run::{solve_scene, Run};
 use axijoint_solver::scene::Scene;
 use std::f64::consts::PI;
 use std::path::PathBuf;
@@ -51,14 +51,14 @@ fn weight() -> f64 {
 #[test]
 fn self_weight_of_a_column_is_uniaxial_and_carried_by_the_base() {
     let run = column(0.0, r#"["z", "theta"]"#, 0);
-    let fz: f64 = run.linear.reactions.iter().map(|r| r.force[2]).sum();
+    let fz: f64 = run.reactions.iter().map(|r| r.force[2]).sum();
     println!("base reaction {fz:.12e}, weight {:.12e}", weight());
     assert!((fz / weight() - 1.0).abs() < 1e-10, "{fz}");
-    assert!((run.linear.applied.force[2] / weight() + 1.0).abs() < 1e-10);
+    assert!((run.applied.force[2] / weight() + 1.0).abs() < 1e-10);
 
-    let mesh = &run.linear.model.mesh;
-    let mat = run.linear.model.materials[0];
-    let u = &run.linear.displacements.harmonics[0].symmetric;
+    let mesh = &run.problem.model.mesh;
+    let mat = run.problem.model.materials[0];
+    let u = &run.displacements.harmonics[0].symmetric;
     let mut worst = 0.0f64;
     let mut checked = 0;
     for cell in &mesh.cells {
@@ -91,8 +91,8 @@ fn self_weight_of_a_column_is_uniaxial_and_carried_by_the_base() {
 fn seismic_coefficient_gives_the_base_shear_and_overturning_moment() {
     let k_h = 0.15;
     let run = column(k_h, r#"["r", "z", "theta"]"#, 1);
-    let fx: f64 = run.linear.reactions.iter().map(|r| r.force[0]).sum();
-    let applied = &run.linear.applied;
+    let fx: f64 = run.reactions.iter().map(|r| r.force[0]).sum();
+    let applied = &run.applied;
     println!(
         "base shear {fx:.12e}, k_h W {:.12e}; applied My {:.12e}, k_h W L / 2 {:.12e}",
         k_h * weight(),

@@ -28,9 +28,10 @@
 //! load on `pile_end` 1.5 m below its lower end; the default sections).
 //! Run with `--nocapture` for the measured numbers.
 
-use axijoint_solver::driver::{face_displacement, solve_scene, Displacements, Run};
 use axijoint_solver::iteration::PATH_TOL;
+use axijoint_solver::run::{face_displacement, solve_scene, Run};
 use axijoint_solver::scene::{JointLaw, Loading, Scene, ShearCheck, SolverSettings};
+use axijoint_solver::solution::Displacements;
 use proptest::prelude::*;
 use proptest::test_runner::{Config, TestRunner};
 use std::f64::consts::PI;
@@ -80,14 +81,9 @@ const A: f64 = 0.5;
 /// The loaded face's mean motion `(u_x, u_y, u_z)` and its mean twist as
 /// the circumferential motion at the pile's radius, `a theta_z`.
 fn motion(sc: &Scene, r: &Run) -> [f64; 4] {
-    let mesh = &r.linear.model.mesh;
-    let u = face_displacement(mesh, face(sc), &r.linear.displacements).expect("face");
-    [
-        u[0],
-        u[1],
-        u[2],
-        A * mean_twist(mesh, face(sc), &r.linear.displacements),
-    ]
+    let mesh = &r.problem.model.mesh;
+    let u = face_displacement(mesh, face(sc), &r.displacements).expect("face");
+    [u[0], u[1], u[2], A * mean_twist(mesh, face(sc), &r.displacements)]
 }
 
 /// Whether a run reached the whole load.
@@ -97,7 +93,7 @@ fn reached(r: &Run) -> bool {
 
 /// `max |a - b| / max |b|` over every displacement amplitude.
 fn field_difference(a: &Run, b: &Run) -> f64 {
-    difference(&a.linear.displacements, &b.linear.displacements)
+    difference(&a.displacements, &b.displacements)
 }
 
 /// `max |a - b| / max |b|` over every amplitude of two displacements.
@@ -444,21 +440,21 @@ fn where_nothing_yields_every_combination_is_the_linear_answer() {
             .all(|s| *s == axijoint_solver::joint_law::JointState::Stick));
         let d = field_difference(&r, &linear(sc.clone()));
         // The sum of the parts.
-        let mut summed = alone[0].linear.displacements.clone();
+        let mut summed = alone[0].displacements.clone();
         for (k, h) in summed.harmonics.iter_mut().enumerate() {
             for (family, values) in [&mut h.symmetric, &mut h.antisymmetric].into_iter().enumerate() {
                 for (n, v) in values.iter_mut().enumerate() {
                     *v = (0..alone.len())
                         .filter(|p| mask & (1 << p) != 0)
                         .map(|p| {
-                            let hp = &alone[p].linear.displacements.harmonics[k];
+                            let hp = &alone[p].displacements.harmonics[k];
                             [&hp.symmetric, &hp.antisymmetric][family][n]
                         })
                         .sum();
                 }
             }
         }
-        let s = difference(&r.linear.displacements, &summed);
+        let s = difference(&r.displacements, &summed);
         println!("parts {mask:04b}: against linear joints {d:.1e}, against the sum of the parts {s:.1e}");
         assert!(d < 1e-10 && s < 1e-10, "{mask:04b}: {d:.1e}, {s:.1e}");
     }

@@ -16,7 +16,7 @@
 //! nu / (1 - nu) sigma_z`, `u_z = -gamma (L^2 - (L - z)^2) / (2 M)` with
 //! `M = E (1 - nu) / ((1 + nu)(1 - 2 nu))`, exact for quadratic elements.
 
-use axijoint_solver::driver::{solve_scene, Run};
+use axijoint_solver::run::{solve_scene, Run};
 use axijoint_solver::scene::Scene;
 use std::f64::consts::PI;
 use std::path::PathBuf;
@@ -53,8 +53,8 @@ fn column(initial: &str, loads: &str) -> Run {
 }
 
 /// `u_z` of the node at the top of the axis.
-fn top_uz(run: &Run, u: &axijoint_solver::driver::Displacements) -> f64 {
-    let mesh = &run.linear.model.mesh;
+fn top_uz(run: &Run, u: &axijoint_solver::solution::Displacements) -> f64 {
+    let mesh = &run.problem.model.mesh;
     let k = (0..mesh.nodes.len())
         .find(|&k| mesh.nodes[k][0] == 0.0 && (mesh.nodes[k][1] - L).abs() < 1e-12)
         .expect("a node at (0, L)");
@@ -83,7 +83,7 @@ fn geostatic_column_is_in_balance() {
     );
     // Nothing else is loaded: no displacement after the initial phase.
     assert_eq!(
-        run.linear.displacements.harmonics[0]
+        run.displacements.harmonics[0]
             .symmetric
             .iter()
             .fold(0.0f64, |a, v| a.max(v.abs())),
@@ -101,7 +101,7 @@ fn gravity_loading_settles_the_column_oedometrically() {
     assert!((uz / exact - 1.0).abs() < 1e-6, "{uz} vs {exact}");
     // The weight is the phase's load, not the run's: nothing moves after it.
     assert!((init.balance.relative - 1.0).abs() < 1e-12, "{:?}", init.balance);
-    assert_eq!(top_uz(&run, &run.linear.displacements), 0.0);
+    assert_eq!(top_uz(&run, &run.displacements), 0.0);
 }
 
 #[test]
@@ -113,7 +113,7 @@ fn loads_start_from_the_initial_state() {
     let exact = -q * L / m_oed();
     for initial in [geostatic(), r#"{"type": "gravity"}"#.to_string()] {
         let run = column(&initial, &load);
-        let uz = top_uz(&run, &run.linear.displacements);
+        let uz = top_uz(&run, &run.displacements);
         println!("{initial}: top {uz:.12e}, exact {exact:.12e}");
         assert!((uz / exact - 1.0).abs() < 1e-6, "{initial}: {uz} vs {exact}");
     }
@@ -220,10 +220,9 @@ fn laterally_loaded_pile_with_gravity_reaches_its_load() {
             .unwrap_or_else(|e| panic!("{h}: {e}"));
         let path = run.load_path.as_ref().expect("stepped");
         assert!(path.limit.is_none(), "{h}: {:?}", path.limit);
-        let mesh = &run.linear.model.mesh;
-        let ux = axijoint_solver::driver::face_displacement(mesh, "pile_head", &run.linear.displacements)
-            .unwrap()[0];
-        let rx: f64 = run.linear.reactions.iter().map(|r| r.force[0]).sum();
+        let mesh = &run.problem.model.mesh;
+        let ux = axijoint_solver::run::face_displacement(mesh, "pile_head", &run.displacements).unwrap()[0];
+        let rx: f64 = run.reactions.iter().map(|r| r.force[0]).sum();
         println!(
             "H = {h}: head u_x = {ux:.6e}, reactions {rx:.6e}, {} steps",
             path.steps.len()
@@ -265,7 +264,7 @@ fn uplift_capacity_of_a_pile_with_gravity_is_its_weight_plus_the_shaft() {
     // the problem is axisymmetric).
     let field = &run.outcome.as_ref().unwrap().field;
     let side = run
-        .linear
+        .problem
         .model
         .mesh
         .joints

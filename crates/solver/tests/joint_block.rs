@@ -16,7 +16,7 @@
 //! A factor reduced to its joint block ([`Model::joint_block`]) gives the
 //! same joint solves and full solves, value for value.
 
-use axijoint_solver::driver::{build_model, mesh_scene};
+use axijoint_solver::run::{build_model, mesh_scene};
 use axijoint_solver::scene::Scene;
 use std::path::PathBuf;
 

@@ -22,7 +22,8 @@
 //! the proportional loading scales too), `geo/pile_soil.json`,
 //! `geo/pile_footing.json`. Run with `--nocapture` for the measured numbers.
 
-use axijoint_solver::driver::{face_displacement, solve_scene, LoadPath, Run};
+use axijoint_solver::results::LoadPath;
+use axijoint_solver::run::{face_displacement, solve_scene, Run};
 use axijoint_solver::scene::{JointLaw, Loading, Scene, Sections, SolverMethod, SolverSettings};
 use std::f64::consts::PI;
 
@@ -88,8 +89,8 @@ fn torsion_beyond_full_slip_ends_at_the_limit_load_factor() {
     // The results are those of the last converged step: its reactions
     // balance lambda T and lambda P (to 1e-6 relative).
     let lambda = path(&r).reached();
-    let mz: f64 = r.linear.reactions.iter().map(|s| s.moment[2]).sum();
-    let fz: f64 = r.linear.reactions.iter().map(|s| s.force[2]).sum();
+    let mz: f64 = r.reactions.iter().map(|s| s.moment[2]).sum();
+    let fz: f64 = r.reactions.iter().map(|s| s.force[2]).sum();
     assert!((mz / (lambda * 1.1 * t_max) + 1.0).abs() < 1e-6, "Mz {mz}");
     assert!((fz / (lambda * 0.1) - 1.0).abs() < 1e-6, "Fz {fz}");
 }
@@ -119,7 +120,7 @@ fn stepped_and_one_shot_agree_below_full_slip() {
         sc.solver.loading = loading;
         let stepped = run(&sc);
         assert!(path(&stepped).limit.is_none());
-        let d = relative_difference(&one.linear.displacements, &stepped.linear.displacements);
+        let d = relative_difference(&one.displacements, &stepped.displacements);
         println!(
             "{loading:?}: {} steps, difference to one-shot {d:.2e}",
             path(&stepped).steps.len()
@@ -138,8 +139,8 @@ fn scaling_strength_and_load_together_scales_the_answer() {
     }
     resultant(&mut scaled).force[0] *= 2.0;
     let (a, b) = (run(&base), run(&scaled));
-    let ua = face_displacement(&a.linear.model.mesh, "pile_end", &a.linear.displacements).expect("face");
-    let ub = face_displacement(&b.linear.model.mesh, "pile_end", &b.linear.displacements).expect("face");
+    let ua = face_displacement(&a.problem.model.mesh, "pile_end", &a.displacements).expect("face");
+    let ub = face_displacement(&b.problem.model.mesh, "pile_end", &b.displacements).expect("face");
     println!(
         "pile_end ux: {:.6e} and {:.6e} (ratio {})",
         ua[0],
@@ -155,9 +156,8 @@ fn scaling_strength_and_load_together_scales_the_answer() {
 #[test]
 fn pile_in_soil_reaches_the_whole_load() {
     let base = scene("pile_soil.json");
-    let head = |r: &Run| {
-        face_displacement(&r.linear.model.mesh, "pile_head", &r.linear.displacements).expect("face")
-    };
+    let head =
+        |r: &Run| face_displacement(&r.problem.model.mesh, "pile_head", &r.displacements).expect("face");
     for (name, force) in [
         ("axial", [0.0, 0.0, -0.3]),
         ("lateral", [0.05, 0.0, 0.0]),
@@ -190,8 +190,8 @@ fn pile_in_soil_reaches_the_whole_load() {
                 along(u_frictional)
             );
             // Equilibrium: the reactions balance the load.
-            let f: f64 = r.linear.reactions.iter().map(|s| s.force[0]).sum::<f64>() + force[0];
-            let fz: f64 = r.linear.reactions.iter().map(|s| s.force[2]).sum::<f64>() + force[2];
+            let f: f64 = r.reactions.iter().map(|s| s.force[0]).sum::<f64>() + force[0];
+            let fz: f64 = r.reactions.iter().map(|s| s.force[2]).sum::<f64>() + force[2];
             assert!(
                 f.abs().max(fz.abs()) < 1e-6,
                 "{name}, C = {c}: out of balance ({f}, {fz})"
@@ -226,8 +226,7 @@ fn auto_steps_follow_the_converged_load_path() {
             sc.solver.loading = loading;
             let r = run(&sc);
             assert!(path(&r).limit.is_none(), "T = {t}, {loading:?}");
-            let u =
-                face_displacement(&r.linear.model.mesh, "pile_head", &r.linear.displacements).expect("face");
+            let u = face_displacement(&r.problem.model.mesh, "pile_head", &r.displacements).expect("face");
             println!("T = {t}, {loading:?}: {} steps, head {u:?}", path(&r).steps.len());
             u
         };
@@ -324,7 +323,7 @@ fn stiff_joints_with_the_papers_sections_are_refused_with_advice() {
 }
 
 fn pile_end_x(r: &Run) -> f64 {
-    face_displacement(&r.linear.model.mesh, "pile_end", &r.linear.displacements).expect("face")[0]
+    face_displacement(&r.problem.model.mesh, "pile_end", &r.displacements).expect("face")[0]
 }
 
 /// Stiff joints (issue 11 item 5): with the defaults (newton on the
@@ -347,7 +346,7 @@ fn stiff_joints_reach_the_whole_load_with_the_defaults() {
         let r = run(&stiff_scene_p(kh));
         let p = path(&r);
         assert!(p.limit.is_none(), "k h / E = {kh}: {:?}", p.limit);
-        let fx: f64 = r.linear.reactions.iter().map(|s| s.force[0]).sum::<f64>() + 0.5;
+        let fx: f64 = r.reactions.iter().map(|s| s.force[0]).sum::<f64>() + 0.5;
         assert!(fx.abs() < 1e-6, "k h / E = {kh}: out of balance {fx}");
         println!(
             "k h / E = {kh}: pile end ux {:.6e}, {} steps, {} solves",
@@ -488,10 +487,9 @@ fn an_eccentric_pull_beyond_the_tensile_capacity_ends_at_its_limit_not_in_a_mech
     assert!((limit.factor * 1.3 - 1.0).abs() < 0.01, "limit {}", limit.factor);
     assert!(limit.failed_at > limit.factor && limit.failed_at <= 1.01 * limit.factor + 1e-4);
     let lambda = path(&r).reached();
-    let fz: f64 = r.linear.reactions.iter().map(|s| s.force[2]).sum();
+    let fz: f64 = r.reactions.iter().map(|s| s.force[2]).sum();
     assert!((fz / (lambda * 1.3 * f_1) + 1.0).abs() < 1e-6, "Fz {fz}");
     let u_max = r
-        .linear
         .displacements
         .harmonics
         .iter()

@@ -18,12 +18,12 @@
 //!
 //! Run with `--nocapture` for the measured numbers.
 
-use axijoint_solver::driver::{scene_sections, solve_linear, solve_scene};
 use axijoint_solver::error::SolverError;
 use axijoint_solver::iteration::{
     stress_transfer, FixedPoint, IterationError, IterationRecord, IterationSettings, Method,
 };
 use axijoint_solver::joint_law::{state_counts, JointState};
+use axijoint_solver::run::{scene_sections, solve_linear, solve_scene};
 use axijoint_solver::scene::{JointLaw, Load, Loading, Scene, ShearCheck, SolverMethod};
 use std::f64::consts::PI;
 use std::time::Instant;
@@ -111,9 +111,16 @@ fn jacobian_vector_product_matches_a_finite_difference_of_psi() {
             }
         }
         let lin = solve_linear(&sc, None, true).expect("linear run");
-        let laws = laws(&sc, &lin.model.mesh);
+        let laws = laws(&sc, &lin.problem.model.mesh);
         let sections = scene_sections(&sc, &lin.loads).expect("sections");
-        let fp = FixedPoint::new(&lin.model, &lin.factors, &lin.loads, &laws, &sections).expect("setup");
+        let fp = FixedPoint::new(
+            &lin.problem.model,
+            &lin.problem.factors,
+            &lin.loads,
+            &laws,
+            &sections,
+        )
+        .expect("setup");
         let mut x = vec![0.0; fp.len()];
         for _ in 0..5 {
             x = fp.psi(&x).0;
@@ -154,11 +161,18 @@ fn traction_form_jacobian_matches_a_finite_difference() {
         let f = kh * e / 0.125 / j.k_eta;
         (j.k_xi, j.k_eta, j.k_theta) = (f * j.k_xi, f * j.k_eta, f * j.k_theta);
         let lin = solve_linear(&sc, None, true).expect("linear run");
-        let softened = lin.model.joints.iter().any(|j| j.assembled != j.springs);
+        let softened = lin.problem.model.joints.iter().any(|j| j.assembled != j.springs);
         assert!(softened, "k h / E = {kh}: the joint is assembled as it is");
-        let laws = laws(&sc, &lin.model.mesh);
+        let laws = laws(&sc, &lin.problem.model.mesh);
         let sections = scene_sections(&sc, &lin.loads).expect("sections");
-        let fp = FixedPoint::new(&lin.model, &lin.factors, &lin.loads, &laws, &sections).expect("setup");
+        let fp = FixedPoint::new(
+            &lin.problem.model,
+            &lin.problem.factors,
+            &lin.loads,
+            &laws,
+            &sections,
+        )
+        .expect("setup");
         let mut tau = vec![0.0; fp.traction_len()];
         for _ in 0..10 {
             let (r, _) = fp.traction_residual(&tau);
@@ -186,7 +200,7 @@ fn traction_form_jacobian_matches_a_finite_difference() {
 /// (seconds, sweeps, steps).
 fn timed(scene: &Scene, method: Method) -> (f64, u32, usize) {
     let lin = solve_linear(scene, None, true).expect("linear run");
-    let laws = laws(scene, &lin.model.mesh);
+    let laws = laws(scene, &lin.problem.model.mesh);
     let sections = scene_sections(scene, &lin.loads).expect("sections");
     let settings = IterationSettings {
         method,
@@ -197,8 +211,8 @@ fn timed(scene: &Scene, method: Method) -> (f64, u32, usize) {
     for _ in 0..3 {
         let t = Instant::now();
         let out = stress_transfer(
-            &lin.model,
-            &lin.factors,
+            &lin.problem.model,
+            &lin.problem.factors,
             &lin.loads,
             &laws,
             &sections,
@@ -288,7 +302,7 @@ fn newton_converges_on_scene_p_and_agrees_with_anderson() {
 /// The block torsion scene with the torque at `factor` times the full-slip
 /// torque `T_max = 2 pi C a^3 / 3`, solved by `method` (epsilon 1e-8, the
 /// scene's).
-fn torsion(factor: f64, method: SolverMethod) -> (Scene, Result<axijoint_solver::driver::Run, SolverError>) {
+fn torsion(factor: f64, method: SolverMethod) -> (Scene, Result<axijoint_solver::run::Run, SolverError>) {
     let mut sc = Scene::from_path(geo("block_torsion.json")).expect("scene");
     sc.solver.method = method;
     // The one-shot iteration's own diagnosis (stepped loading: loading.rs).
@@ -302,7 +316,7 @@ fn torsion(factor: f64, method: SolverMethod) -> (Scene, Result<axijoint_solver:
         Load::Resultant(l) => l.torque = factor * 2.0 * PI * c * a.powi(3) / 3.0,
         other => panic!("expected a resultant load, got {other:?}"),
     }
-    let run = solve_scene(&sc, None, |_| {});
+    let run = solve_scene(&sc, None, |_| {}).map_err(|s| s.error);
     (sc, run)
 }
 

@@ -45,12 +45,13 @@
 //! The zero-stiffness case uses `geo/stacked_cylinders.geo`; Scene P is in
 //! `nonlinear_scene_p.rs`. Run with `--nocapture` for the measured numbers.
 
-use axijoint_solver::driver::{face_displacement, solve_linear, solve_scene, Displacements, Run};
 use axijoint_solver::error::SolverError;
 use axijoint_solver::fourier::Sections;
 use axijoint_solver::iteration::{stress_transfer, IterationError, IterationSettings, JointField};
 use axijoint_solver::joint_law::JointState;
+use axijoint_solver::run::{face_displacement, solve_linear, solve_scene, Run};
 use axijoint_solver::scene::{JointLaw, Loading, MohrCoulomb, Scene};
+use axijoint_solver::solution::Displacements;
 use std::f64::consts::PI;
 
 mod joint_cases;
@@ -60,7 +61,7 @@ use joint_cases::*;
 
 /// Solves a scene (no progress output).
 fn run(scene: &Scene) -> Result<Run, SolverError> {
-    solve_scene(scene, None, |_| {})
+    solve_scene(scene, None, |_| {}).map_err(|s| s.error)
 }
 
 // ---------------------------------------------------------------- tests
@@ -91,7 +92,7 @@ fn contact_law(scene: &Scene) -> MohrCoulomb {
 /// 1. the law `linear` run through `stress_transfer` on the linear run's
 ///    factors;
 /// 2. Mohr-Coulomb with C = 1e3 MPa (10^4 times the largest shear), the
-///    default driver route.
+///    default route of a run.
 ///
 /// Both must stop after the first solve (nothing released: ratio 0) with
 /// the linear solution; 1e-8 relative leaves room only for the solve being
@@ -109,12 +110,12 @@ fn unchanging_joint_converges_in_one_iteration_to_the_linear_solution() {
     let p = -resultant(&mut sc).force[2];
     resultant(&mut sc).moment = [0.0, p * a / 10.0];
     let linear = solve_linear(&sc, None, true).expect("linear run");
-    let sections = axijoint_solver::driver::scene_sections(&sc, &linear.loads).expect("sections");
+    let sections = axijoint_solver::run::scene_sections(&sc, &linear.loads).expect("sections");
     assert_eq!(sections.len(), 5, "the paper's M + 1 sections");
 
     let out = stress_transfer(
-        &linear.model,
-        &linear.factors,
+        &linear.problem.model,
+        &linear.problem.factors,
         &linear.loads,
         &[JointLaw::Linear],
         &sections,
@@ -201,7 +202,7 @@ fn zero_stiffness_joint_separates_the_bodies_exactly() {
         out.field.p.iter().all(|p| *p == [0.0; 3]),
         "a joint with k = 0 transmits nothing"
     );
-    let mesh = &run.linear.model.mesh;
+    let mesh = &run.problem.model.mesh;
     let mut body_of = vec![usize::MAX; mesh.nodes.len()];
     for cell in &mesh.cells {
         for &n in &cell.nodes {
@@ -217,7 +218,7 @@ fn zero_stiffness_joint_separates_the_bodies_exactly() {
             other => panic!("unexpected body {other}"),
         };
         let exact = [-p * (1.0 - nu) * r / e, 2.0 * nu * p * (z - z_support) / e, 0.0];
-        let u = run.linear.displacements.at(n, 0.0);
+        let u = run.displacements.at(n, 0.0);
         for c in 0..3 {
             err = err.max((u[c] - exact[c]).abs());
             scale = scale.max(exact[c].abs());
@@ -271,7 +272,7 @@ fn torsional_partial_slip_matches_the_rigid_block_closed_form() {
     resultant(&mut sc).torque = 0.9 * t1;
     let run0 = run(&sc).expect("elastic");
     let out0 = run0.outcome.expect("nonlinear joint");
-    let beta = mean_twist(&run0.linear.model.mesh, "block_top", &run0.linear.displacements);
+    let beta = mean_twist(&run0.problem.model.mesh, "block_top", &run0.displacements);
     let beta_ref = 0.9 * t1 / (k * PI * a.powi(4) / 2.0);
     println!(
         "T = 0.9 T_1: {} iteration(s), beta {beta:.6e} (elastic {beta_ref:.6e}, {:+.2e})",
@@ -306,7 +307,7 @@ fn torsional_partial_slip_matches_the_rigid_block_closed_form() {
                 );
             }
             if s == 0 {
-                let beta = mean_twist(&run.linear.model.mesh, "block_top", &run.linear.displacements);
+                let beta = mean_twist(&run.problem.model.mesh, "block_top", &run.displacements);
                 let beta_ref = c / (k * rs_ref);
                 println!(
                     "r_s/a = {ratio}: T = {:.5e}, {} iterations; r_s/a {:.5} ({:+.2e}), beta {beta:.5e} vs {beta_ref:.5e} ({:+.2e})",
@@ -436,9 +437,9 @@ fn eccentric_uplift_converges_with_harmonics_to_the_winkler_reference() {
         let run = run(&sc).expect("converges");
         let out = run.outcome.expect("nonlinear joint");
         assert_eq!(out.field.sections.len(), m as usize + 1);
-        let mesh = &run.linear.model.mesh;
-        let w = -face_displacement(mesh, "block_top", &run.linear.displacements).expect("face")[2];
-        let tilt = -mean_tilt(mesh, "block_top", &run.linear.displacements);
+        let mesh = &run.problem.model.mesh;
+        let w = -face_displacement(mesh, "block_top", &run.displacements).expect("face")[2];
+        let tilt = -mean_tilt(mesh, "block_top", &run.displacements);
         let f = &out.field;
         let last = f.sections.len() - 1;
         assert!((f.sections.theta[last] - PI).abs() < 1e-12);
@@ -484,10 +485,7 @@ fn same_scene_twice_is_bit_identical() {
             .map(|v| v.to_bits())
             .collect()
     };
-    assert_eq!(
-        bits(&first.linear.displacements),
-        bits(&second.linear.displacements)
-    );
+    assert_eq!(bits(&first.displacements), bits(&second.displacements));
     let (a, b) = (first.outcome.expect("outcome"), second.outcome.expect("outcome"));
     let history = |o: &axijoint_solver::iteration::Outcome| -> Vec<(u32, u64, usize, usize)> {
         o.history
@@ -507,7 +505,7 @@ fn same_scene_twice_is_bit_identical() {
     println!(
         "two runs, {} threads: {} amplitudes and {} iterations identical",
         rayon::current_num_threads(),
-        bits(&first.linear.displacements).len(),
+        bits(&first.displacements).len(),
         a.history.len()
     );
 }
@@ -567,7 +565,7 @@ fn full_circle_sections_equal_half_circle_for_a_symmetric_load() {
     let full = run(&sc).expect("full circle");
     let (oh, of) = (half.outcome.expect("outcome"), full.outcome.expect("outcome"));
     assert!(oh.field.sections.half && !of.field.sections.half);
-    let diff = relative_difference(&full.linear.displacements, &half.linear.displacements);
+    let diff = relative_difference(&full.displacements, &half.displacements);
     println!(
         "half ({} sections): {} iterations; full ({} sections): {} iterations; relative difference {diff:.2e}",
         oh.field.sections.len(),
@@ -582,7 +580,7 @@ fn full_circle_sections_equal_half_circle_for_a_symmetric_load() {
 /// Half-circle sections cannot represent torsion (u_theta is odd in theta
 /// there, so the m = 0 theta basis is 0 in half mode): `stress_transfer`
 /// refuses antisymmetric loads on a half-circle set, and must refuse m = 0
-/// torsion the same way. The driver picks the full circle for torsion by
+/// torsion the same way. A run picks the full circle for torsion by
 /// itself, but a direct call with `Sections::paper(0)` and a torque of
 /// 2 T_max (no equilibrium exists) now "converges" after one iteration with
 /// the elastic solution and no slip at all.
@@ -594,8 +592,8 @@ fn half_circle_sections_refuse_torsion() {
     let linear = solve_linear(&sc, None, true).expect("linear run");
     let laws = [JointLaw::MohrCoulomb(contact_law(&sc))];
     let result = stress_transfer(
-        &linear.model,
-        &linear.factors,
+        &linear.problem.model,
+        &linear.problem.factors,
         &linear.loads,
         &laws,
         &Sections::paper(0),
@@ -622,7 +620,7 @@ fn half_circle_sections_refuse_torsion() {
 /// gets M = 1.
 #[test]
 fn auto_harmonics_reach_the_uplift_reference_and_stop_at_the_loads_for_linear_scenes() {
-    use axijoint_solver::driver::solve_scene_auto;
+    use axijoint_solver::run::solve_scene_auto;
     use axijoint_solver::scene::Harmonics;
     let mut sc = scene("block_uplift.json");
     let a = radius(&sc);
@@ -638,9 +636,9 @@ fn auto_harmonics_reach_the_uplift_reference_and_stop_at_the_loads_for_linear_sc
         vec![w, mean_tilt(&model.mesh, "block_top", u) * a]
     };
     let (chosen, run) = solve_scene_auto(&sc, None, 2e-3, 64, measure, |_| {}).expect("converges");
-    let mesh = &run.linear.model.mesh;
-    let w = -face_displacement(mesh, "block_top", &run.linear.displacements).expect("face")[2];
-    let tilt = -mean_tilt(mesh, "block_top", &run.linear.displacements);
+    let mesh = &run.problem.model.mesh;
+    let w = -face_displacement(mesh, "block_top", &run.displacements).expect("face")[2];
+    let tilt = -mean_tilt(mesh, "block_top", &run.displacements);
     let steps: Vec<(u32, Option<f64>)> = run.auto_steps.iter().map(|s| (s.m, s.change)).collect();
     let err = (w / w0 - 1.0).abs().max((tilt / tilt0 - 1.0).abs());
     println!(
@@ -661,9 +659,9 @@ fn auto_harmonics_reach_the_uplift_reference_and_stop_at_the_loads_for_linear_sc
     bonded.mesh.parameters.insert("size".into(), 0.5);
     let (chosen, run) = solve_scene_auto(&bonded, None, 1e-3, 64, |_, _| Vec::new(), |_| {}).expect("linear");
     assert_eq!(chosen.harmonics(), 1);
-    assert_eq!(run.linear.displacements.harmonics.len(), 2);
+    assert_eq!(run.displacements.harmonics.len(), 2);
     assert_eq!(
-        run.linear.factors.iter().map(|f| f.m).collect::<Vec<_>>(),
+        run.problem.factors.iter().map(|f| f.m).collect::<Vec<_>>(),
         vec![1]
     );
 }

@@ -37,9 +37,9 @@
 //! (z = 0) and at theta = pi near the pile head (z = 1), and opening on the
 //! opposite sides.
 
-use axijoint_solver::driver::solve_scene;
 use axijoint_solver::iteration::{JointField, Outcome};
 use axijoint_solver::joint_law::JointState;
+use axijoint_solver::run::solve_scene;
 use axijoint_solver::scene::{Loading, Scene};
 use std::path::PathBuf;
 

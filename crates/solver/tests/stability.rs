@@ -46,7 +46,7 @@
 //! tests hold the right outcome.
 //!
 //! Time: `t / t_lin`, with `t` = setup + factorization of harmonics 0..=M +
-//! the iteration (its last record's clock; the driver's M/2 check is not
+//! the iteration (its last record's clock; the run's M/2 check is not
 //! counted) and `t_lin` = setup + factorization of harmonics 0..=M + solve
 //! of [`solve_linear`] on the same scene (joints as linear springs; the
 //! faster of two runs); meshing is in neither. For the failures the time
@@ -59,11 +59,12 @@
 //! Run: `cargo test --release -p axijoint-solver --test stability -- --nocapture`.
 
 use axijoint_mesh::Mesh;
-use axijoint_solver::driver::{face_displacement, solve_linear, solve_scene, Displacements, Run};
 use axijoint_solver::error::SolverError;
 use axijoint_solver::iteration::{IterationError, IterationRecord};
 use axijoint_solver::joint_law::JointState;
+use axijoint_solver::run::{face_displacement, solve_linear, solve_scene, Run};
 use axijoint_solver::scene::{JointLaw, Loading, MohrCoulomb, Scene, Sections, SolverMethod};
+use axijoint_solver::solution::Displacements;
 use std::f64::consts::PI;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::{Mutex, MutexGuard};
@@ -195,7 +196,7 @@ fn solves(history: &[IterationRecord]) -> u64 {
 /// released forces; it departs from zero when the solve has lost the load
 /// in cancellation (released forces many orders above the load).
 fn equilibrium_error(run: &Run) -> f64 {
-    let mesh = &run.linear.model.mesh;
+    let mesh = &run.problem.model.mesh;
     let (lo, hi) = mesh
         .nodes
         .iter()
@@ -206,7 +207,7 @@ fn equilibrium_error(run: &Run) -> f64 {
             )
         });
     let l = (hi[0] - lo[0]).hypot(hi[1] - lo[1]);
-    let a = &run.linear.applied;
+    let a = &run.applied;
     let mut sum = [
         a.force[0],
         a.force[1],
@@ -216,7 +217,7 @@ fn equilibrium_error(run: &Run) -> f64 {
         a.moment[2] / l,
     ];
     let scale = sum.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-    for r in &run.linear.reactions {
+    for r in &run.reactions {
         for c in 0..3 {
             sum[c] += r.force[c];
             sum[3 + c] += r.moment[c] / l;
@@ -235,7 +236,9 @@ fn solve(sc: &Scene, method: SolverMethod, t_lin: f64) -> Solved {
     // The map characterizes the one-shot iteration of each method; stepped
     // loading is tested in loading.rs.
     sc.solver.loading = Loading::OneShot;
-    let result = catch_unwind(AssertUnwindSafe(|| solve_scene(&sc, None, |_| {})));
+    let result = catch_unwind(AssertUnwindSafe(|| {
+        solve_scene(&sc, None, |_| {}).map_err(|s| s.error)
+    }));
     let mut s = Solved {
         category: Category::Failed,
         run: None,
@@ -271,9 +274,9 @@ fn solve(sc: &Scene, method: SolverMethod, t_lin: f64) -> Solved {
                     last.open + last.slip + last.stick
                 );
             }
-            let t = &run.linear.timings;
+            let t = &run.timings;
             s.t_rel = Some((t.setup + t.factorize + s.iter_seconds) / t_lin);
-            s.category = if finite(&run.linear.displacements) {
+            s.category = if finite(&run.displacements) {
                 Category::Converged
             } else {
                 s.message = "non-finite displacements returned as converged".into();
@@ -404,7 +407,7 @@ fn law(sc: &Scene, joint: &str) -> MohrCoulomb {
 
 /// Mean x displacement of a face (from harmonic 1).
 fn face_x(run: &Run, curve: &str) -> f64 {
-    face_displacement(&run.linear.model.mesh, curve, &run.linear.displacements).expect("face")[0]
+    face_displacement(&run.problem.model.mesh, curve, &run.displacements).expect("face")[0]
 }
 
 /// The uplift scene (`geo/block_uplift.json`) at eccentricity `e / a`,
@@ -430,9 +433,9 @@ fn uplift_error(sc: &Scene, run: &Run) -> f64 {
     let load = resultant(&mut sc).clone();
     let p = -load.force[2];
     let (w0, tilt0, x0) = winkler_uplift(a, k, p, load.moment[1] / p);
-    let mesh = &run.linear.model.mesh;
-    let w = -face_displacement(mesh, "block_top", &run.linear.displacements).expect("face")[2];
-    let tilt = -mean_tilt(mesh, "block_top", &run.linear.displacements);
+    let mesh = &run.problem.model.mesh;
+    let w = -face_displacement(mesh, "block_top", &run.displacements).expect("face")[2];
+    let tilt = -mean_tilt(mesh, "block_top", &run.displacements);
     let f = &run.outcome.as_ref().expect("nonlinear").field;
     let (s, sign, exact) = if x0 < 0.0 {
         let last = f.sections.len() - 1;
@@ -529,7 +532,7 @@ fn case2_torsion_at_095_and_105_of_capacity() {
                     .map(|&(r, i)| (r, (k * f.d[i][0]).hypot(k * f.d[i][2]) - c))
                     .collect();
                 let rs = crossing(&samples).expect("a stick-slip boundary");
-                let beta = mean_twist(&run.linear.model.mesh, "block_top", &run.linear.displacements);
+                let beta = mean_twist(&run.problem.model.mesh, "block_top", &run.displacements);
                 let err = (rs / rs_ref - 1.0)
                     .abs()
                     .max((beta / (c / (k * rs_ref)) - 1.0).abs());
@@ -709,7 +712,7 @@ fn case3_very_stiff_joint() {
         for (name, m) in methods() {
             let s = solve(&sc, m, t_lin);
             if let Some(run) = &s.run {
-                let h = joint_element_length(&run.linear.model.mesh);
+                let h = joint_element_length(&run.problem.model.mesh);
                 assert!((h / SCENE_P_H - 1.0).abs() < 0.05, "h = {h}");
             }
             // Anderson and newton converge at 12.5 (anderson since normal
@@ -820,7 +823,7 @@ fn lame_error(family: (&str, f64, f64, f64), nu: f64, size: f64) -> f64 {
     let run = solve_linear(&sc, None, false).expect("Lame tube");
     let u = &run.displacements.harmonics[0].symmetric;
     let (mut err, mut scale) = (0.0f64, 0.0f64);
-    for (n, p) in run.model.mesh.nodes.iter().enumerate() {
+    for (n, p) in run.problem.model.mesh.nodes.iter().enumerate() {
         let exact = lame(p[0], 1.0, 0.5, 1.0, 1000.0, nu);
         err = err.max((u[3 * n] - exact).abs()).max(u[3 * n + 1].abs());
         scale = scale.max(exact.abs());
@@ -892,7 +895,7 @@ fn case4_nearly_incompressible_uplift_per_family_and_method() {
             let s = solve(&sc, m, t_lin);
             expect(&case, name, &s, Category::Converged);
             let run = s.run.as_ref().expect("run");
-            let cells = &run.linear.model.mesh.cells;
+            let cells = &run.problem.model.mesh.cells;
             let want = match label {
                 "T3" => axijoint_mesh::CellKind::Tri3,
                 "T6" => axijoint_mesh::CellKind::Tri6,
@@ -931,7 +934,7 @@ fn case5_sixty_four_harmonics() {
             uplift_error(&sc64, s64.run.as_ref().expect("run")),
         );
         let abs = |s: &Solved| {
-            let t = &s.run.as_ref().expect("run").linear.timings;
+            let t = &s.run.as_ref().expect("run").timings;
             t.setup + t.factorize + s.iter_seconds
         };
         row(
@@ -1087,7 +1090,7 @@ fn case7_joints_meeting_at_a_corner() {
         .and_then(|(_, s)| s.run.as_ref())
         .expect("the default method converges");
     let field = &reference.outcome.as_ref().expect("nonlinear").field;
-    let mesh = &reference.linear.model.mesh;
+    let mesh = &reference.problem.model.mesh;
     for (j, joint) in mesh.joints.iter().enumerate() {
         let states: Vec<JointState> = field
             .points

@@ -1,5 +1,5 @@
 //! Newton on the released tractions, for joints assembled softer than
-//! their law (`k > k_a = E / h`, see `driver::reference_springs`).
+//! their law (`k > k_a = E / h`, see `run::model::reference_springs`).
 //!
 //! The unknowns are the tractions `tau` released at every (section,
 //! point); the model carries `t = t0 + k_a d - tau` there (`d` the relative

@@ -255,6 +255,12 @@ impl Scene {
         self.materials.values().any(|m| m.initial_stress.is_some())
     }
 
+    /// Whether a joint can open or slip (its law is not `linear`): the run
+    /// then iterates.
+    pub fn has_nonlinear_joints(&self) -> bool {
+        self.joints.values().any(|j| j.law != JointLaw::Linear)
+    }
+
     /// The joints as the mesh crate inserts them.
     pub fn joint_specs(&self) -> Vec<JointSpec> {
         self.joints.iter().map(|(name, j)| j.spec(name)).collect()

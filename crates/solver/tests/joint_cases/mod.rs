@@ -4,10 +4,10 @@
 #![allow(dead_code)]
 
 use axijoint_mesh::Mesh;
-use axijoint_solver::driver::Displacements;
 use axijoint_solver::elements::edge_load;
 use axijoint_solver::iteration::JointField;
 use axijoint_solver::scene::{Load, Scene};
+use axijoint_solver::solution::Displacements;
 use std::f64::consts::PI;
 use std::path::PathBuf;
 

@@ -3,16 +3,15 @@
 //! below the target and the profiles moved by less than the target since
 //! the cycle before, or the cycles run out (docs/accuracy.md).
 
-use super::solve_to_then;
+use super::solve::solve_to_then;
 use anyhow::{ensure, Context, Result};
 use axijoint_report::adapt::{mesh_with_background, new_sizes, write_background};
 use axijoint_report::cuts::profile;
 use axijoint_report::estimate::{profile_estimates, Estimate};
 use axijoint_report::field::{Field, Initial, Locator};
 use axijoint_report::fmt_angle;
-use axijoint_solver::results::{read_solution, SolutionHeader};
+use axijoint_solver::results::{read_solution, AdaptCycle, AdaptTable, PerProfile, SolutionHeader};
 use axijoint_solver::scene::Scene;
-use serde_json::json;
 use std::collections::HashMap;
 use std::path::Path;
 use std::time::Instant;
@@ -183,40 +182,45 @@ pub fn solve_adaptive(
         );
     }
     // The table: CSV, solution.json extra.adapt, and the header returned.
-    let table = json!({
-        "target": adapt.target,
-        "max_cycles": adapt.max_cycles,
-        "reached": reached,
-        "cycles": cycles.iter().enumerate().map(|(k, c)| {
-            let mut per_cut = serde_json::Map::new();
-            let mut moved = serde_json::Map::new();
-            for (i, (cut, t, e)) in c.profiles.iter().enumerate() {
-                per_cut.entry(cut.clone()).or_insert_with(|| json!({}))[fmt_angle(*t)] = json!(e);
-                if let Some(m) = &c.changes {
-                    moved.entry(cut.clone()).or_insert_with(|| json!({}))[fmt_angle(*t)] = json!(m[i]);
-                }
-            }
-            json!({
-                "cycle": k,
-                "nodes": c.nodes,
-                "dofs_per_harmonic": c.dofs,
-                "estimated_error": per_cut,
-                "change": if c.changes.is_some() { json!(moved) } else { json!(null) },
-                "estimated_energy_error": c.energy,
-                "seconds": c.seconds,
-            })
-        }).collect::<Vec<_>>(),
-    });
+    let table = AdaptTable {
+        target: adapt.target,
+        max_cycles: adapt.max_cycles,
+        reached,
+        cycles: cycles
+            .iter()
+            .enumerate()
+            .map(|(k, c)| adapt_cycle(k, c))
+            .collect(),
+    };
     write_csv(&out.join(CYCLES_CSV), &cycles)?;
     if let Some(view) = last_view {
         std::fs::copy(&view, out.join(SIZE_VIEW)).with_context(|| format!("writing {}", out.display()))?;
     }
+    header.record.get_or_insert_with(Default::default).adapt = Some(table);
     let path = out.join("solution.json");
-    let mut saved: serde_json::Value = serde_json::from_slice(&std::fs::read(&path)?)?;
-    saved["extra"]["adapt"] = table.clone();
-    std::fs::write(&path, serde_json::to_string_pretty(&saved)?)?;
-    header.extra["adapt"] = table;
+    std::fs::write(&path, serde_json::to_string_pretty(&header)?)?;
     Ok(header)
+}
+
+/// The table row of cycle `k`.
+fn adapt_cycle(k: usize, c: &Cycle) -> AdaptCycle {
+    let mut per_cut = PerProfile::new();
+    let mut moved = PerProfile::new();
+    for (i, (cut, t, e)) in c.profiles.iter().enumerate() {
+        per_cut.entry(cut.clone()).or_default().insert(fmt_angle(*t), *e);
+        if let Some(m) = &c.changes {
+            moved.entry(cut.clone()).or_default().insert(fmt_angle(*t), m[i]);
+        }
+    }
+    AdaptCycle {
+        cycle: k,
+        nodes: c.nodes,
+        dofs_per_harmonic: c.dofs,
+        estimated_error: per_cut,
+        change: c.changes.is_some().then_some(moved),
+        estimated_energy_error: c.energy,
+        seconds: c.seconds,
+    }
 }
 
 /// One line per cycle on the console.

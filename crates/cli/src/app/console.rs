@@ -1,0 +1,181 @@
+//! The console: the progress display of a solve and the summary of a
+//! solution folder (best effort, see [`crate::say!`]).
+
+use axijoint_solver::iteration::IterationRecord;
+use axijoint_solver::results::SolutionHeader;
+use axijoint_solver::scene::Scene;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use std::path::Path;
+use std::time::Duration;
+
+/// A spinner on stderr with the elapsed time and a message (hidden when
+/// `quiet`).
+pub fn progress_bar(quiet: bool) -> ProgressBar {
+    if quiet {
+        return ProgressBar::hidden();
+    }
+    let b = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
+    b.set_style(ProgressStyle::with_template("{spinner} {elapsed} {msg}").expect("valid template"));
+    b.enable_steady_tick(Duration::from_millis(200));
+    b.set_message("meshing and factorizing");
+    b
+}
+
+/// The progress line of an iteration.
+pub fn progress_message(r: &IterationRecord) -> String {
+    format!(
+        "load factor {:.4}  iteration {:>4}  residual ratio {:.3e}  open {}  slip {}",
+        r.load_factor, r.iteration, r.ratio, r.open, r.slip
+    )
+}
+
+/// The summary of a solution folder on the console.
+pub fn print_summary(path: &Path, scene: &Scene, header: &SolutionHeader, out: &Path) {
+    crate::say!("{}: {}", path.display(), scene.title);
+    crate::say!(
+        "  {} nodes, {} elements, {} unknowns per harmonic, harmonics 0..={}",
+        header.mesh.nodes,
+        header.mesh.elements,
+        header.dofs_per_harmonic,
+        header.harmonics.last().copied().unwrap_or(0)
+    );
+    let t = &header.timings;
+    crate::say!(
+        "  time: setup {:.3} s, assembly + factorization {:.3} s, solve {:.3} s",
+        t.setup,
+        t.factorize,
+        t.solve
+    );
+    if let Some(i) = &header.initial {
+        let b = &i.balance;
+        crate::say!(
+            "  initial phase: weight {:.6e} {f}, out-of-balance {:.3e} {f} ({:.2e} of the largest nodal force), {} iterations, max |u| {:.6e} {l} (displacements below are from its end)",
+            b.weight,
+            b.max_force,
+            b.relative,
+            i.iterations,
+            i.max_displacement,
+            f = scene.units.force,
+            l = scene.units.length,
+        );
+        if b.relative > 0.01 {
+            crate::say!(
+                "  note: the initial stresses are not in balance with the weight and supports (above 1 %); the initial phase moved the model to balance them"
+            );
+        }
+    }
+    let Some(record) = &header.record else {
+        return print_faces(scene, header, out);
+    };
+    if let Some(h) = &record.history {
+        if let Some(last) = h.last() {
+            crate::say!(
+                "  iteration: {} iterations, residual ratio {:.3e} (epsilon {:.1e}); open {}, slip {}, stick {} point-sections",
+                h.len(),
+                last.ratio,
+                scene.solver.epsilon,
+                last.open,
+                last.slip,
+                last.stick
+            );
+        }
+    }
+    if let Some(path) = &record.load_path {
+        let solves: u64 = path.steps.iter().map(|s| u64::from(s.solves)).sum();
+        let cutbacks: u64 = path.steps.iter().map(|s| u64::from(s.cutbacks)).sum();
+        crate::say!(
+            "  load path: {} converged steps to load factor {:.4} ({} solves, {} cut-backs)",
+            path.steps.len(),
+            record.load_factor.unwrap_or(f64::NAN),
+            solves,
+            cutbacks
+        );
+    }
+    if let Some(limit) = record.limit() {
+        let what = if limit.beyond_capacity {
+            "LIMIT LOAD FACTOR"
+        } else {
+            "STOPPED (not a limit load) at load factor"
+        };
+        crate::say!(
+            "  {what} {:.4}: the load factor {:.4} failed ({}); every result below is that of the last converged step",
+            limit.factor,
+            limit.failed_at,
+            limit.reason
+        );
+    }
+    if let Some(Some(c)) = &record.harmonic_check {
+        match (c.face_change, c.area_change) {
+            (Some(f), Some(a)) => crate::say!(
+                "  harmonics: 0..={} against 0..={}: {} changes {f:.2e}, joint open/slip area {a:.2e} (relative)",
+                c.m,
+                c.m_half,
+                if c.note.is_none() {
+                    "loaded-face displacement"
+                } else {
+                    "the displacement field"
+                }
+            ),
+            _ => crate::say!(
+                "  harmonics: no comparison with 0..={}: that run did not converge (reason in solution.json, extra.harmonic_check)",
+                c.m_half
+            ),
+        }
+    }
+    if let Some(a) = &record.auto_harmonics {
+        let steps: Vec<String> = a
+            .steps
+            .iter()
+            .map(|s| match s.change {
+                Some(c) => format!("M={} ({:.1e})", s.m, c),
+                None => format!("M={}", s.m),
+            })
+            .collect();
+        crate::say!(
+            "  harmonics chosen automatically: M = {} (profile change < {} ; steps {})",
+            a.chosen,
+            a.tolerance,
+            steps.join(", ")
+        );
+    }
+    print_faces(scene, header, out);
+}
+
+/// The loaded faces' motion, the largest displacement, the applied loads
+/// and the reactions.
+fn print_faces(scene: &Scene, header: &SolutionHeader, out: &Path) {
+    let u = &scene.units;
+    for (face, d) in &header.loaded_faces {
+        crate::say!(
+            "  {face}: mean displacement (ux, uy, uz) = ({:.6e}, {:.6e}, {:.6e}) {}",
+            d[0],
+            d[1],
+            d[2],
+            u.length
+        );
+    }
+    crate::say!("  max |u| = {:.6e} {}", header.max_displacement, u.length);
+    let a = &header.applied;
+    crate::say!(
+        "  applied   F = ({:+.6e}, {:+.6e}, {:+.6e})  M = ({:+.6e}, {:+.6e}, {:+.6e})",
+        a.force[0],
+        a.force[1],
+        a.force[2],
+        a.moment[0],
+        a.moment[1],
+        a.moment[2]
+    );
+    for r in &header.reactions {
+        crate::say!(
+            "  reaction  F = ({:+.6e}, {:+.6e}, {:+.6e})  M = ({:+.6e}, {:+.6e}, {:+.6e})  on {}",
+            r.force[0],
+            r.force[1],
+            r.force[2],
+            r.moment[0],
+            r.moment[1],
+            r.moment[2],
+            r.on
+        );
+    }
+    crate::say!("  written to {}", out.display());
+}

@@ -1,0 +1,325 @@
+//! The report of a solution folder: every output (CSV, plots, views) and
+//! the index `summary.json`, with the estimated errors on the console.
+
+use super::solve::WITHOUT_JOINTS;
+use anyhow::Result;
+use axijoint_report::write_report;
+use axijoint_solver::iteration::LoadStep;
+use axijoint_solver::results::{
+    read_joint_field, read_solution, AdaptTable, AutoHarmonics, HarmonicCheck, InitialInfo, PerProfile,
+    StepMeasure, SOLVED_MESH,
+};
+use axijoint_solver::scene::{Loading, Units};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::path::{Component, Path, PathBuf};
+
+/// `summary.json`: the index of a solution folder (docs/outputs.md). Its
+/// fields appear in the order of their names.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Summary {
+    /// The cycles of an adaptive run.
+    pub adapt: Option<AdaptTable>,
+    /// The automatic choice of M.
+    pub auto_harmonics: Option<AutoHarmonics>,
+    /// Whether the whole load was reached.
+    pub complete: bool,
+    /// Whether the run converged (false: a last iterate).
+    pub converged: bool,
+    /// Unknowns per harmonic.
+    pub dofs_per_harmonic: usize,
+    /// Why a run stopped.
+    pub error: Option<String>,
+    /// Estimated error in the energy norm.
+    pub estimated_energy_error: f64,
+    /// Estimated error of each cut profile, relative to its max |stress|.
+    pub estimated_error: PerProfile,
+    /// The files of the folder.
+    pub files: Vec<String>,
+    /// The M/2 check.
+    pub harmonic_check: Option<HarmonicCheck>,
+    /// Harmonics 0..=M.
+    pub harmonics: Vec<u32>,
+    /// The initial phase.
+    pub initial: Option<InitialInfo>,
+    /// Iterations of a nonlinear run.
+    pub iterations: Option<usize>,
+    /// Each joint's areas by state.
+    pub joints: BTreeMap<String, JointSummary>,
+    /// The limit load factor of a stepped run that found no equilibrium.
+    pub limit_load_factor: Option<f64>,
+    /// The load factor reached by a stepped run.
+    pub load_factor: Option<f64>,
+    /// The converged steps of a stepped run.
+    pub load_steps: Option<Vec<LoadStep<StepMeasure>>>,
+    /// Face-average displacement of each loaded curve.
+    pub loaded_faces: BTreeMap<String, [f64; 3]>,
+    /// How the load was applied (nonlinear runs).
+    pub loading: Option<Loading>,
+    /// Largest displacement magnitude.
+    pub max_displacement: f64,
+    /// Nodes (joints inserted).
+    pub nodes: usize,
+    /// What the outputs are, when not the whole load's equilibrium.
+    pub note: Option<String>,
+    /// The scene file.
+    pub scene: String,
+    /// The scene's title.
+    pub title: String,
+    /// The scene's units.
+    pub units: Units,
+}
+
+/// A joint's areas by state (length^2).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct JointSummary {
+    /// Open.
+    pub open_area: f64,
+    /// Slipping.
+    pub slip_area: f64,
+    /// Sticking.
+    pub stick_area: f64,
+}
+
+/// Writes the outputs and the index `summary.json`; prints the file list.
+/// The comparison run `DIR/without_joints`, if there, gives the dashed
+/// curves; `compare` adds other runs' convergence, every run then labelled
+/// by [`run_labels`].
+pub fn report(dir: &Path, compare: &[PathBuf]) -> Result<()> {
+    let summary = write_outputs(dir, compare)?;
+    print_estimates(&summary);
+    crate::say!(
+        "  report: {} files in {} (index: summary.json)",
+        summary.files.len(),
+        dir.display()
+    );
+    Ok(())
+}
+
+/// The report of `dir` ([`report`]), printed only if `print`.
+pub fn write(dir: &Path, print: bool) -> Result<()> {
+    if print {
+        report(dir, &[])
+    } else {
+        write_outputs(dir, &[]).map(|_| ())
+    }
+}
+
+/// [`report`] without printing: returns `summary.json`.
+pub fn write_outputs(dir: &Path, compare: &[PathBuf]) -> Result<Summary> {
+    let saved = read_solution(dir)?;
+    let companion_dir = dir.join(WITHOUT_JOINTS);
+    let companion = if companion_dir.join("solution.json").is_file() {
+        Some(read_solution(&companion_dir)?)
+    } else {
+        None
+    };
+    let mut runs = Vec::new();
+    let mut dirs = vec![dir.to_path_buf()];
+    for other in compare {
+        let o = read_solution(other)?;
+        if let Some(h) = axijoint_report::history(&o) {
+            runs.push((String::new(), h.to_vec()));
+            dirs.push(other.clone());
+        }
+    }
+    let labels = run_labels(&dirs);
+    for (run, label) in runs.iter_mut().zip(&labels[1..]) {
+        run.0 = label.clone();
+    }
+    let label = (!runs.is_empty()).then(|| labels[0].as_str());
+    let written = write_report(dir, &saved, companion.as_ref(), label, &runs)?;
+    let h = &saved.header;
+    let joints = read_joint_field(dir)?;
+    let mut joint_summary = BTreeMap::new();
+    for j in &h.mesh.joints {
+        if let Some(f) = &joints {
+            let (open_area, slip_area, stick_area) = f.state_areas(j);
+            joint_summary.insert(
+                j.clone(),
+                JointSummary {
+                    open_area,
+                    slip_area,
+                    stick_area,
+                },
+            );
+        }
+    }
+    let record = h.record.clone().unwrap_or_default();
+    let mut files: Vec<String> = ["solution.json", "displacement.f64", "mesh.msh"]
+        .map(String::from)
+        .to_vec();
+    if dir.join(SOLVED_MESH).is_file() {
+        files.push(SOLVED_MESH.into());
+    }
+    if joints.is_some() {
+        files.push("joints.json".into());
+    }
+    if let Some(i) = &h.initial {
+        files.push(i.displacement.file.clone());
+    }
+    files.extend(written.files.iter().map(|p| p.display().to_string()));
+    for f in ["adapt.csv", "adapt_size.pos"] {
+        if record.adapt.is_some() && dir.join(f).is_file() {
+            files.push(f.into());
+        }
+    }
+    files.push("summary.json".into());
+    let summary = Summary {
+        adapt: record.adapt.clone(),
+        auto_harmonics: record.auto_harmonics.clone(),
+        complete: record.complete(),
+        converged: record.converged(),
+        dofs_per_harmonic: h.dofs_per_harmonic,
+        error: record.error.clone(),
+        estimated_energy_error: written.energy_error,
+        estimated_error: estimated_error(&written.estimated_error),
+        files,
+        harmonic_check: record.harmonic_check.clone().flatten(),
+        harmonics: h.harmonics.clone(),
+        initial: h.initial.clone(),
+        iterations: record.iterations,
+        joints: joint_summary,
+        limit_load_factor: record.limit_load_factor,
+        load_factor: record.load_factor,
+        load_steps: record.load_path.as_ref().map(|p| p.steps.clone()),
+        loaded_faces: h.loaded_faces.clone(),
+        loading: record.loading,
+        max_displacement: h.max_displacement,
+        nodes: h.mesh.nodes,
+        note: record.note.clone(),
+        scene: h.scene_file.clone(),
+        title: h.scene.title.clone(),
+        units: h.scene.units.clone(),
+    };
+    let path = dir.join("summary.json");
+    let tmp = dir.join(".summary.json.partial");
+    std::fs::write(&tmp, serde_json::to_string_pretty(&summary)?)?;
+    std::fs::rename(&tmp, &path)?;
+    Ok(summary)
+}
+
+/// Above this estimated error of a profile the console warns.
+pub const ESTIMATE_WARNING: f64 = 0.05;
+
+/// `cut name -> theta as in file names -> fraction`.
+pub fn estimated_error(rows: &[(String, f64, f64)]) -> PerProfile {
+    let mut map = PerProfile::new();
+    for (cut, theta, e) in rows {
+        map.entry(cut.clone())
+            .or_default()
+            .insert(axijoint_report::fmt_angle(*theta), *e);
+    }
+    map
+}
+
+/// The estimated errors of `dir/summary.json` on the console
+/// (docs/accuracy.md), a warning for each profile above
+/// [`ESTIMATE_WARNING`].
+fn print_estimates(summary: &Summary) {
+    let energy = summary.estimated_energy_error;
+    let mut rows = Vec::new();
+    for (cut, per_theta) in &summary.estimated_error {
+        for (t, e) in per_theta {
+            rows.push((cut.clone(), t.clone(), *e));
+        }
+    }
+    let parts: Vec<String> = rows
+        .iter()
+        .map(|(cut, t, e)| format!("{cut} theta {t}: {:.2} %", 100.0 * e))
+        .collect();
+    crate::say!(
+        "  estimated error: {}{:.2} % in the energy norm",
+        if parts.is_empty() {
+            String::new()
+        } else {
+            format!("{} (of each profile's max |stress|); ", parts.join(", "))
+        },
+        100.0 * energy
+    );
+    for (cut, t, e) in rows.iter().filter(|r| r.2 > ESTIMATE_WARNING || r.2.is_nan()) {
+        crate::say!(
+            "  WARNING: cut {cut} at theta {t} deg: estimated error {:.1} % of its max |stress| (above {} %): refine the mesh there or set mesh.adapt (docs/accuracy.md)",
+            100.0 * e,
+            100.0 * ESTIMATE_WARNING
+        );
+    }
+}
+
+/// Legend labels that tell folders apart: each folder's name, or as many
+/// of the last components of its absolute path as make it differ from the
+/// others (the whole path, from `/`, when nothing less does). A folder
+/// given twice gets ` (2)`, ` (3)` after its label.
+pub fn run_labels(dirs: &[PathBuf]) -> Vec<String> {
+    let parts: Vec<Vec<String>> = dirs
+        .iter()
+        .map(|d| {
+            let abs = d
+                .canonicalize()
+                .or_else(|_| std::path::absolute(d))
+                .unwrap_or_else(|_| d.clone());
+            abs.components()
+                .filter_map(|c| match c {
+                    Component::Normal(s) => Some(s.to_string_lossy().into_owned()),
+                    _ => None,
+                })
+                .collect()
+        })
+        .collect();
+    let label = |p: &[String], depth: usize| {
+        let tail = p[p.len().saturating_sub(depth)..].join("/");
+        if depth >= p.len() {
+            format!("/{tail}")
+        } else {
+            tail
+        }
+    };
+    let mut depth = vec![1; dirs.len()];
+    let base = loop {
+        let labels: Vec<String> = parts.iter().zip(&depth).map(|(p, &d)| label(p, d)).collect();
+        let mut deeper = false;
+        for (i, d) in depth.iter_mut().enumerate() {
+            let shared = (0..labels.len()).any(|j| parts[j] != parts[i] && labels[j] == labels[i]);
+            if shared && *d < parts[i].len() {
+                *d += 1;
+                deeper = true;
+            }
+        }
+        if !deeper {
+            break labels;
+        }
+    };
+    let mut labels = base.clone();
+    for i in 1..labels.len() {
+        let same = base[..i].iter().filter(|l| **l == base[i]).count();
+        if same > 0 {
+            labels[i] = format!("{} ({})", base[i], same + 1);
+        }
+    }
+    labels
+}
+
+#[cfg(test)]
+mod tests {
+    use super::run_labels;
+
+    #[test]
+    fn labels_tell_folders_apart() {
+        let tmp = tempfile::tempdir().unwrap();
+        let root = tmp.path().canonicalize().unwrap();
+        for d in ["a/run", "b/run", "x/p", "x/q", "deep/b/run"] {
+            std::fs::create_dir_all(root.join(d)).unwrap();
+        }
+        let l = |ds: &[&str]| run_labels(&ds.iter().map(|d| root.join(d)).collect::<Vec<_>>());
+        assert_eq!(l(&["x/p", "x/q"]), ["p", "q"]);
+        assert_eq!(l(&["a/run", "b/run"]), ["a/run", "b/run"]);
+        assert_eq!(l(&["a/run", "b/run", "x/p"]), ["a/run", "b/run", "p"]);
+        let tmp_name = root.file_name().unwrap().to_string_lossy();
+        assert_eq!(
+            l(&["b/run", "deep/b/run"]),
+            [format!("{tmp_name}/b/run"), "deep/b/run".to_owned()]
+        );
+        // One folder twice, the second time by another spelling of its path.
+        assert_eq!(l(&["x/p", "a/../x/p"]), ["p", "p (2)"]);
+    }
+}

@@ -1,0 +1,187 @@
+//! One scene solved into a solution folder: the solve with a progress
+//! display, the folder of a finished run or of a stopped run's last
+//! iterate, and the check that the whole load was reached.
+
+use super::console::{progress_bar, progress_message};
+use anyhow::{Context, Result};
+use axijoint_report::cuts::profile_values;
+use axijoint_solver::error::SolverError;
+use axijoint_solver::iteration::IterationError;
+use axijoint_solver::results::{write_solution, JointFieldFile, SolutionHeader};
+use axijoint_solver::run::{
+    last_iterate_header, solution_header, solve_scene, solve_scene_auto, Run, Stopped,
+};
+use axijoint_solver::scene::{Harmonics, Scene};
+use std::path::{Path, PathBuf};
+
+/// The folder of the comparison run without joints, inside a solution folder.
+pub const WITHOUT_JOINTS: &str = "without_joints";
+
+/// `scene` without its joints (the bodies bonded): the comparison of
+/// `axijoint run`, solved into [`WITHOUT_JOINTS`].
+pub fn without_joints(scene: &Scene) -> Scene {
+    let mut bonded = scene.clone();
+    bonded.joints.clear();
+    bonded.title = format!("{} (without joints)", scene.title);
+    bonded
+}
+
+/// The `.msh` a run of `scene` solves: gmsh's output in `tmp` for a `.geo`,
+/// else the scene's own `.msh`.
+pub fn solved_msh(scene: &Scene, tmp: &Path) -> PathBuf {
+    let is_geo = scene
+        .mesh_path()
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("geo"));
+    if is_geo {
+        tmp.join("mesh.msh")
+    } else {
+        scene.mesh_path()
+    }
+}
+
+/// Solves `scene` into the solution folder `out`.
+pub fn solve_to(scene: &Scene, out: &Path, quiet: bool) -> Result<SolutionHeader> {
+    solve_to_then(scene, out, quiet, &|| {})
+}
+
+/// [`solve_to`], calling `iterating` at every iteration record (the
+/// factors are made: the rest of the solve keeps about one core busy). A
+/// one-shot run that stops writes its last iterate, marked, and fails.
+pub fn solve_to_then(scene: &Scene, out: &Path, quiet: bool, iterating: &dyn Fn()) -> Result<SolutionHeader> {
+    let tmp = tempfile::tempdir().context("creating a temporary folder")?;
+    let msh = solved_msh(scene, tmp.path());
+    let bar = progress_bar(quiet);
+    let progress = |r: &_| {
+        iterating();
+        bar.set_message(progress_message(r));
+    };
+    let result = if scene.harmonics == Harmonics::Auto {
+        solve_scene_auto(
+            scene,
+            Some(&msh),
+            scene.solver.harmonics_tolerance,
+            scene.solver.max_harmonics,
+            |model, u| profile_values(scene, &model.mesh, u),
+            progress,
+        )
+    } else {
+        solve_scene(scene, Some(&msh), progress).map(|run| (scene.clone(), run))
+    };
+    bar.finish_and_clear();
+    match result {
+        Ok((solved, run)) => write_run(&solved, &run, &msh, out),
+        Err(stopped) => Err(write_stopped(scene, *stopped, &msh, out)),
+    }
+}
+
+/// The error of a stopped run, after writing its last iterate (if any) to
+/// `out`.
+pub fn write_stopped(scene: &Scene, stopped: Stopped, msh: &Path, out: &Path) -> anyhow::Error {
+    let Stopped { error, last } = stopped;
+    let (Some(last), SolverError::Iteration(e)) = (last, &error) else {
+        return error.into();
+    };
+    match write_last_iterate(scene, &last, e, msh, out) {
+        Ok(()) => anyhow::Error::new(error).context(format!(
+            "the last iterate is written to {} (marked \"converged\": false; not an equilibrium)",
+            out.display()
+        )),
+        Err(w) => anyhow::Error::new(error).context(format!("writing the last iterate failed too: {w:#}")),
+    }
+}
+
+/// Writes the solution folder of a finished run of `solved` (the scene as
+/// run, its harmonics chosen) at `out`; returns its header.
+pub fn write_run(solved: &Scene, run: &Run, msh: &Path, out: &Path) -> Result<SolutionHeader> {
+    let header = solution_header(solved, run);
+    // Every joint's field, linear ones included (`t0 + k d`, stick).
+    let model = &run.problem.model;
+    let springs: Vec<_> = model.joints.iter().map(|j| j.springs).collect();
+    let joints = run
+        .joint_field(solved)?
+        .map(|f| JointFieldFile::new(&model.mesh, &springs, &f));
+    write_solution(
+        out,
+        &header,
+        &run.displacements,
+        run.initial.as_ref().map(|i| &i.displacements),
+        msh,
+        &model.mesh,
+        joints.as_ref(),
+    )?;
+    Ok(header)
+}
+
+/// Writes the last iterate `last` of a one-shot run that stopped with `e`:
+/// the solution folder marked `"converged": false`, with the error, the
+/// history and the joint field of that iterate.
+pub fn write_last_iterate(
+    scene: &Scene,
+    last: &Run,
+    e: &IterationError,
+    msh: &Path,
+    out: &Path,
+) -> Result<()> {
+    let Some(outcome) = &last.outcome else {
+        return Ok(());
+    };
+    let header = last_iterate_header(scene, last, e);
+    let model = &last.problem.model;
+    let springs: Vec<_> = model.joints.iter().map(|j| j.springs).collect();
+    let joints = JointFieldFile::new(&model.mesh, &springs, &outcome.field);
+    write_solution(
+        out,
+        &header,
+        &last.displacements,
+        last.initial.as_ref().map(|i| &i.displacements),
+        msh,
+        &model.mesh,
+        Some(&joints),
+    )?;
+    Ok(())
+}
+
+/// The load could not be raised to the whole load: every output was
+/// written for the last converged load factor.
+#[derive(Debug, thiserror::Error)]
+#[error("{}", self.message())]
+pub struct LimitReached {
+    pub factor: f64,
+    pub failed_at: f64,
+    /// The failed step found no equilibrium (else it stopped for another reason).
+    pub beyond_capacity: bool,
+    pub reason: String,
+    pub dir: String,
+}
+
+impl LimitReached {
+    fn message(&self) -> String {
+        if self.beyond_capacity {
+            format!(
+                "limit load factor {:.4}: the scene's load exceeds what the joints can carry (the load factor {:.4} found no equilibrium); the outputs in {} are those of the load factor {:.4}",
+                self.factor, self.failed_at, self.dir, self.factor
+            )
+        } else {
+            format!(
+                "the run stopped at the load factor {:.4}, short of the whole load, for a reason that does not show the load exceeds the joints' capacity: {}; the outputs in {} are those of the load factor {:.4}",
+                self.factor, self.reason, self.dir, self.factor
+            )
+        }
+    }
+}
+
+/// `Err(LimitReached)` when the header says the whole load was not reached.
+pub fn check_limit(header: &SolutionHeader, out: &Path) -> Result<()> {
+    match header.record.as_ref().and_then(|r| r.limit()) {
+        Some(limit) => Err(LimitReached {
+            factor: limit.factor,
+            failed_at: limit.failed_at,
+            beyond_capacity: limit.beyond_capacity,
+            reason: limit.reason.clone(),
+            dir: out.display().to_string(),
+        }
+        .into()),
+        None => Ok(()),
+    }
+}

@@ -1,0 +1,139 @@
+//! The M/2 check: the key results of a nonlinear run against the same run
+//! with harmonics 0..=M/2, the user's check that M is enough.
+
+use super::measures::{face_displacement, max_displacement, padded};
+use crate::error::SolverError;
+use crate::iteration::Outcome;
+use crate::linear::Model;
+use crate::loads::HarmonicLoads;
+use crate::results::{HarmonicCheck, JointFieldFile, LoadPath};
+use crate::scene::Scene;
+use crate::solution::{Displacements, HarmonicDisplacement};
+
+/// Compares the key results of two solutions of the same model (`loads`:
+/// the run's, every harmonic).
+pub(super) fn harmonic_check(
+    scene: &Scene,
+    model: &Model,
+    loads: &[HarmonicLoads],
+    full: (&Outcome, u32),
+    half: (&Outcome, u32),
+) -> HarmonicCheck {
+    let mesh = &model.mesh;
+    let faces = |o: &Outcome| -> Vec<[f64; 3]> {
+        let d = padded(&o.displacements, loads);
+        scene
+            .loads
+            .iter()
+            .filter_map(|l| face_displacement(mesh, l.on(), &d))
+            .collect()
+    };
+    let (a, b) = (faces(full.0), faces(half.0));
+    let scale = a.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
+    let diff = a
+        .iter()
+        .flatten()
+        .zip(b.iter().flatten())
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+    let springs: Vec<_> = model.joints.iter().map(|j| j.springs).collect();
+    let areas = |o: &Outcome| -> Vec<(f64, f64, f64)> {
+        let file = JointFieldFile::new(mesh, &springs, &o.field);
+        mesh.joints.iter().map(|j| file.state_areas(&j.name)).collect()
+    };
+    let (fa, ha) = (areas(full.0), areas(half.0));
+    let total: f64 = fa.iter().map(|a| a.0 + a.1 + a.2).sum();
+    let (open, slip) = fa.iter().zip(&ha).fold((0.0, 0.0), |acc, (x, y)| {
+        (acc.0 + (x.0 - y.0).abs(), acc.1 + (x.1 - y.1).abs())
+    });
+    // Loads of harmonics >= 2 move a face without moving its mean: then
+    // the change of the whole field (every node, 16 angles) instead.
+    let (uf, uh) = (
+        padded(&full.0.displacements, loads),
+        padded(&half.0.displacements, loads),
+    );
+    let n = mesh.nodes.len();
+    let u_max = max_displacement(n, &uf);
+    let (face_change, note) = if scale > 1e-3 * u_max {
+        (diff / scale, None)
+    } else {
+        let delta = Displacements {
+            harmonics: uf
+                .harmonics
+                .iter()
+                .zip(&uh.harmonics)
+                .map(|(a, b)| HarmonicDisplacement {
+                    m: a.m,
+                    symmetric: a.symmetric.iter().zip(&b.symmetric).map(|(x, y)| x - y).collect(),
+                    antisymmetric: a
+                        .antisymmetric
+                        .iter()
+                        .zip(&b.antisymmetric)
+                        .map(|(x, y)| x - y)
+                        .collect(),
+                })
+                .collect(),
+        };
+        let change = if u_max > 0.0 {
+            max_displacement(n, &delta) / u_max
+        } else {
+            0.0
+        };
+        (
+            change,
+            Some("the loaded faces' mean displacement is about zero (loads of harmonics >= 2): face_change is the largest change of the displacement field over its largest value".to_string()),
+        )
+    };
+    HarmonicCheck {
+        m: full.1,
+        m_half: half.1,
+        face_change: Some(face_change),
+        area_change: Some(if total > 0.0 { open.max(slip) / total } else { 0.0 }),
+        note,
+    }
+}
+
+/// The run with harmonics 0..=M/2 of a check.
+pub(super) enum HalfRun {
+    /// Not run: the whole load was not reached.
+    NotRun,
+    /// Its outcome and load path, or why it stopped.
+    Solved(Box<Result<(Outcome, Option<LoadPath>), SolverError>>),
+}
+
+/// The M/2 check of a run with harmonics 0..=M (`full`; none when M < 2).
+pub(super) fn halved(
+    scene: &Scene,
+    model: &Model,
+    loads: &[HarmonicLoads],
+    full: (&Outcome, u32),
+    half: HalfRun,
+) -> Option<HarmonicCheck> {
+    let m = full.1;
+    if m < 2 {
+        return None;
+    }
+    let no_comparison = |note: String| HarmonicCheck {
+        m,
+        m_half: m / 2,
+        face_change: None,
+        area_change: None,
+        note: Some(note),
+    };
+    let half = match half {
+        HalfRun::NotRun => {
+            return Some(no_comparison(
+                "the whole load was not reached: no comparison".into(),
+            ))
+        }
+        HalfRun::Solved(half) => *half,
+    };
+    Some(match half {
+        Ok((_, Some(path))) if path.limit.is_some() => no_comparison(format!(
+            "the run with harmonics 0..={} reached only the load factor {:.4}",
+            m / 2,
+            path.reached()
+        )),
+        Ok((half, _)) => harmonic_check(scene, model, loads, full, (&half, m / 2)),
+        Err(e) => no_comparison(format!("the run with harmonics 0..={} failed: {e}", m / 2)),
+    })
+}

@@ -1,0 +1,131 @@
+//! The factors of a run's harmonics within the memory budget, and the
+//! elastic solves with them.
+
+use crate::error::SolverError;
+use crate::linear::{HarmonicFactor, Model};
+use crate::loads::HarmonicLoads;
+use crate::solution::{Displacements, HarmonicDisplacement};
+
+/// Environment variable: the memory the whole Cholesky factors of a run's
+/// harmonics may take at once, in bytes (suffix `K`, `M` or `G`: KiB, MiB,
+/// GiB). When the factors of every harmonic do not fit, the lowest
+/// harmonics keep whole factors, the others only their joint blocks (all
+/// the stress-transfer iteration reads), and a full solve of one of those
+/// factorizes it again, as many at once as fit beside the kept ones (at
+/// least one). Unset: half the memory available when the run starts. `0`:
+/// joint blocks only, one whole factor at a time.
+pub const FACTOR_MEMORY_ENV: &str = "AXIJOINT_FACTOR_MEMORY";
+
+/// The byte budget of [`FACTOR_MEMORY_ENV`].
+pub fn factor_memory_budget() -> Result<u64, SolverError> {
+    match std::env::var(FACTOR_MEMORY_ENV) {
+        Ok(v) if !v.trim().is_empty() => parse_bytes(v.trim()).ok_or_else(|| {
+            SolverError::Solve(crate::linear::SolveError::Input(format!(
+                "{FACTOR_MEMORY_ENV}={v}: give bytes, or a number with K, M or G (e.g. 4G)"
+            )))
+        }),
+        _ => Ok(mem_available().map_or(u64::MAX, |b| b / 2)),
+    }
+}
+
+fn parse_bytes(v: &str) -> Option<u64> {
+    let (num, unit) = match v.char_indices().last()? {
+        (i, c) if c.is_ascii_alphabetic() => (&v[..i], c.to_ascii_uppercase()),
+        _ => (v, 'B'),
+    };
+    let shift = match unit {
+        'B' => 0,
+        'K' => 10,
+        'M' => 20,
+        'G' => 30,
+        _ => return None,
+    };
+    let x: f64 = num.trim().parse().ok()?;
+    (x >= 0.0 && x.is_finite()).then(|| (x * (1u64 << shift) as f64) as u64)
+}
+
+/// `MemAvailable` of `/proc/meminfo`, in bytes.
+fn mem_available() -> Option<u64> {
+    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024)
+}
+
+/// For the factors of `n` harmonics (0..n unless all fit) within the
+/// budget of [`FACTOR_MEMORY_ENV`]: the harmonics below the returned one
+/// keep whole factors (`u32::MAX`: all), and the model's
+/// [`Model::set_lean_at_once`] is set to what fits beside them.
+pub(super) fn plan_factors(model: &Model, n: usize) -> Result<u32, SolverError> {
+    let one = (8 * model.factor_len() as u64).max(1);
+    let fit = (factor_memory_budget()? / one).min(u32::MAX as u64) as usize;
+    if n <= 1 || fit >= n {
+        return Ok(u32::MAX);
+    }
+    let at_once = fit.clamp(1, rayon::current_num_threads().max(1));
+    model.set_lean_at_once(at_once);
+    Ok((fit - fit.min(at_once)) as u32)
+}
+
+/// Solves harmonic `h` of the loads with `factor` (zero when unloaded).
+pub(super) fn solve_harmonic(
+    model: &Model,
+    factor: Option<&HarmonicFactor>,
+    h: &HarmonicLoads,
+) -> HarmonicDisplacement {
+    match factor {
+        Some(f) if h.is_loaded() => {
+            let mut u = model.solve(f, &[&h.symmetric, &h.antisymmetric]);
+            let antisymmetric = u.pop().unwrap_or_default();
+            let symmetric = u.pop().unwrap_or_default();
+            HarmonicDisplacement {
+                m: h.m,
+                symmetric,
+                antisymmetric,
+            }
+        }
+        _ => {
+            let n = h.symmetric.len();
+            HarmonicDisplacement {
+                m: h.m,
+                symmetric: vec![0.0; n],
+                antisymmetric: vec![0.0; n],
+            }
+        }
+    }
+}
+
+/// Factorizes harmonics `ms` and solves their `loads` (each harmonic of
+/// `ms` must be in `loads`); harmonics from `whole_below` on keep only
+/// their joint blocks (each solved while whole).
+pub(super) fn factorize_and_solve(
+    model: &Model,
+    ms: &[u32],
+    loads: &[HarmonicLoads],
+    whole_below: u32,
+) -> Result<Vec<(HarmonicFactor, HarmonicDisplacement)>, SolverError> {
+    let load_of = |m: u32| {
+        loads
+            .iter()
+            .find(|h| h.m == m)
+            .expect("the loads of every harmonic")
+    };
+    Ok(model.factorize_all_with(
+        ms,
+        |m| m < whole_below,
+        |f| solve_harmonic(model, Some(f), load_of(f.m)),
+    )?)
+}
+
+/// Displacements of `loads`: each loaded harmonic solved with its factor in
+/// `factors` (both families in one solve), the others zero.
+/// A factor that keeps only its joint block is factorized again for its solve.
+pub fn solve_loads(model: &Model, factors: &[HarmonicFactor], loads: &[HarmonicLoads]) -> Displacements {
+    let factor_of = |i: usize| factors.iter().find(|f| f.m == loads[i].m);
+    let harmonics = model.map_bounded(
+        loads.len(),
+        |i| factor_of(i).is_some_and(|f| !f.is_full()),
+        |i| solve_harmonic(model, factor_of(i), &loads[i]),
+    );
+    Displacements { harmonics }
+}

@@ -1,0 +1,183 @@
+//! A run whose joints can open or slip: the iteration from the elastic
+//! solution (one-shot or along the load path), its M/2 check, and the
+//! reactions at the solution.
+
+use super::check::{halved, HalfRun};
+use super::elastic::{ElasticLoad, Problem};
+use super::initial::InitialState;
+use super::measures::{face_motion, padded, reactions, scaled};
+use super::model::{iteration_settings, joint_laws, scene_sections};
+use super::{Run, Stopped};
+use crate::error::SolverError;
+use crate::fourier::Sections;
+use crate::iteration::{IterationRecord, JointField, Outcome, StepControl};
+use crate::loads::HarmonicLoads;
+use crate::results::{JointAreas, JointFieldFile, LoadPath, StepMeasure};
+use crate::scene::{Loading, Scene};
+use crate::solution::Displacements;
+use std::sync::Arc;
+use std::time::Instant;
+
+/// What an iteration starts from: a problem, a load on it and its elastic
+/// solution, and the initial state.
+#[derive(Clone, Copy)]
+pub(super) struct Start<'a> {
+    /// The factored model.
+    pub problem: &'a Problem,
+    /// The loads, every harmonic of the run.
+    pub loads: &'a [HarmonicLoads],
+    /// Their elastic displacements.
+    pub elastic: &'a Displacements,
+    /// The end of the initial phase, if any.
+    pub initial: Option<&'a InitialState>,
+}
+
+/// The nonlinear solution with harmonics 0..=m on `sections`: one-shot or
+/// along the load path of `solver.loading`.
+pub(super) fn iterate(
+    scene: &Scene,
+    start: Start<'_>,
+    m: u32,
+    sections: &Sections,
+    progress: impl FnMut(&IterationRecord),
+) -> Result<(Outcome, Option<LoadPath>), SolverError> {
+    let Start {
+        problem,
+        loads: all,
+        elastic,
+        initial,
+    } = start;
+    let joint_start = initial.map(|i| i.joint_start(sections.len()));
+    let loads: Vec<HarmonicLoads> = all.iter().filter(|h| h.m <= m).cloned().collect();
+    let model = &problem.model;
+    let laws = joint_laws(scene, model);
+    let settings = iteration_settings(scene);
+    let control = match scene.solver.loading {
+        Loading::OneShot => {
+            let outcome = crate::iteration::stress_transfer_from(
+                model,
+                &problem.factors,
+                &loads,
+                &laws,
+                sections,
+                &settings,
+                Some(elastic),
+                joint_start.as_ref(),
+                progress,
+            )?;
+            return Ok((outcome, None));
+        }
+        Loading::Steps(n) => StepControl::steps(n),
+        Loading::Auto => StepControl::AUTO,
+    };
+    let mesh = &model.mesh;
+    let springs: Vec<_> = model.joints.iter().map(|j| j.springs).collect();
+    let observe = |_lambda: f64, u: &Displacements, field: &JointField| {
+        let d = padded(u, all);
+        let file = JointFieldFile::new(mesh, &springs, field);
+        StepMeasure {
+            faces: scene
+                .loads
+                .iter()
+                .filter_map(|l| face_motion(mesh, l, &d))
+                .collect(),
+            joints: mesh
+                .joints
+                .iter()
+                .map(|j| {
+                    let (open, slip, stick) = file.state_areas(&j.name);
+                    JointAreas {
+                        joint: j.name.clone(),
+                        open,
+                        slip,
+                        stick,
+                    }
+                })
+                .collect(),
+        }
+    };
+    let stepped = crate::iteration::stress_transfer_stepped(
+        model,
+        &problem.factors,
+        &loads,
+        &laws,
+        sections,
+        &settings,
+        control,
+        Some(elastic),
+        joint_start.as_ref(),
+        progress,
+        observe,
+    )?;
+    Ok((
+        stepped.outcome,
+        Some(LoadPath {
+            steps: stepped.steps,
+            limit: stepped.limit,
+        }),
+    ))
+}
+
+/// The rest of a run from its elastic solution and initial state: the
+/// iteration if a joint can open or slip, the M/2 check, the reactions.
+/// `t`: when the run's solve began. A one-shot iteration that stops comes
+/// back with its last iterate.
+pub(super) fn finish(
+    scene: &Scene,
+    problem: Arc<Problem>,
+    load: ElasticLoad,
+    initial: Option<InitialState>,
+    t: Instant,
+    mut progress: impl FnMut(&IterationRecord),
+) -> Result<Run, Box<Stopped>> {
+    // The run's displacements are the elastic ones until the solution.
+    let mut run = Run::new(problem, load);
+    run.initial = initial;
+    if !scene.has_nonlinear_joints() || run.problem.model.mesh.joints.is_empty() {
+        run.reactions = reactions(scene, &run.problem.model, &run.loads, &run.displacements);
+        run.timings.solve += t.elapsed().as_secs_f64();
+        return Ok(run);
+    }
+    let sections = scene_sections(scene, &run.loads)?;
+    let m = scene.harmonics();
+    let start = Start {
+        problem: &run.problem,
+        loads: &run.loads,
+        elastic: &run.displacements,
+        initial: run.initial.as_ref(),
+    };
+    let (outcome, load_path) = match iterate(scene, start, m, &sections, &mut progress) {
+        Ok(v) => v,
+        Err(SolverError::Iteration(e)) => {
+            let last = e.last().cloned().map(|last| {
+                run.displacements = padded(&last.displacements, &run.loads);
+                run.outcome = Some(last);
+                Box::new(run)
+            });
+            return Err(Box::new(Stopped {
+                error: SolverError::Iteration(e),
+                last,
+            }));
+        }
+        Err(e) => return Err(e.into()),
+    };
+    let complete = load_path.as_ref().is_none_or(|p| p.limit.is_none());
+    let half = if m >= 2 && complete {
+        HalfRun::Solved(Box::new(iterate(scene, start, m / 2, &sections, |_| {})))
+    } else {
+        HalfRun::NotRun
+    };
+    run.harmonic_check = halved(scene, &run.problem.model, &run.loads, (&outcome, m), half);
+    run.displacements = outcome.displacements.clone();
+    run.timings.solve += t.elapsed().as_secs_f64();
+    let lambda = load_path.as_ref().map_or(1.0, LoadPath::reached);
+    run.reactions = reactions(
+        scene,
+        &run.problem.model,
+        &scaled(&run.loads, lambda),
+        &run.displacements,
+    );
+    run.outcome = Some(outcome);
+    run.load_path = load_path;
+    Ok(run)
+}
