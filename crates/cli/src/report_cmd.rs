@@ -117,9 +117,7 @@ pub fn write_outputs(dir: &Path, compare: &[PathBuf]) -> Result<Vec<String>> {
         "files": files,
     });
     let path = dir.join("summary.json");
-    let tmp = dir.join(".summary.json.partial");
-    std::fs::write(&tmp, serde_json::to_string_pretty(&summary)?)?;
-    std::fs::rename(&tmp, &path)?;
+    axijoint_mesh::atomic::write_bytes(&path, serde_json::to_string_pretty(&summary)?.as_bytes())?;
     Ok(files)
 }
 
