@@ -122,7 +122,9 @@ mod tests {
         let sb = stage(&b, |w| w.write_all(b"2")).unwrap();
         let partial = names(dir.path());
         assert_eq!(partial.len(), 2);
-        assert!(partial.iter().all(|n| n.starts_with('.') && n.ends_with(".partial")));
+        assert!(partial
+            .iter()
+            .all(|n| n.starts_with('.') && n.ends_with(".partial")));
         sa.commit().unwrap();
         drop(sb);
         assert_eq!(names(dir.path()), ["a"]);

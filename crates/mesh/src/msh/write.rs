@@ -194,7 +194,12 @@ pub fn write_msh41(mesh: &Mesh, w: &mut impl Write) -> io::Result<()> {
         for &n in &cell.nodes {
             owner[n].get_or_insert((2, e));
         }
-        push_element(&mut surface_blocks, e, element_type::of_cell(cell.kind), cell.nodes.clone());
+        push_element(
+            &mut surface_blocks,
+            e,
+            element_type::of_cell(cell.kind),
+            cell.nodes.clone(),
+        );
     }
     for (joint, &tag) in mesh.joints.iter().zip(&joint_tags) {
         let e = surfaces.add(vec![tag]);
