@@ -98,11 +98,8 @@ pub fn write_chart(rows: &[Row], variants: &[String], svg: &Path, png: &Path) ->
 }
 
 fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
-    let mut name = path.file_name().context("not a file name")?.to_os_string();
-    name.push(".partial");
-    let tmp = path.with_file_name(name);
-    std::fs::write(&tmp, bytes).with_context(|| format!("cannot write {}", tmp.display()))?;
-    std::fs::rename(&tmp, path).with_context(|| format!("cannot rename to {}", path.display()))
+    axijoint_mesh::atomic::write_bytes(path, bytes)
+        .with_context(|| format!("cannot write {}", path.display()))
 }
 
 /// A tick label of a log axis: plain decimals from 1e-3 to 1e4, else `1e-5`.

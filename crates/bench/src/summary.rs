@@ -152,16 +152,14 @@ pub fn summarize(rows: &[Row]) -> Vec<SummaryRow> {
 
 /// Writes the summary CSV atomically.
 pub fn write_summary_csv(path: &Path, rows: &[SummaryRow]) -> Result<()> {
-    let tmp = path.with_extension("csv.partial");
-    {
-        let mut w =
-            csv::Writer::from_path(&tmp).with_context(|| format!("cannot write {}", tmp.display()))?;
+    axijoint_mesh::atomic::write(path, |out| {
+        let mut w = csv::Writer::from_writer(out);
         for r in rows {
             w.serialize(r)?;
         }
-        w.flush()?;
-    }
-    std::fs::rename(&tmp, path).with_context(|| format!("cannot rename to {}", path.display()))
+        w.flush()
+    })
+    .with_context(|| format!("cannot write {}", path.display()))
 }
 
 /// The summary as a console table.

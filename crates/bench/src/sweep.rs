@@ -188,17 +188,14 @@ impl Row {
 
 /// Writes the rows to `path` atomically (a temporary file beside it, renamed).
 pub fn write_csv(path: &Path, rows: &[Row]) -> Result<()> {
-    let tmp = path.with_extension("csv.partial");
-    {
-        let mut w =
-            csv::Writer::from_path(&tmp).with_context(|| format!("cannot write {}", tmp.display()))?;
+    axijoint_mesh::atomic::write(path, |out| {
+        let mut w = csv::Writer::from_writer(out);
         for r in rows {
             w.serialize(r)?;
         }
-        w.flush()?;
-    }
-    std::fs::rename(&tmp, path)
-        .with_context(|| format!("cannot rename {} to {}", tmp.display(), path.display()))
+        w.flush()
+    })
+    .with_context(|| format!("cannot write {}", path.display()))
 }
 
 /// Reads rows written by [`write_csv`].

@@ -15,6 +15,8 @@
 //! | [`Joint`], [`JointElement`] | zero-thickness interfaces made by [`insert_joints`] |
 //! | [`CellEdges`] | the cell edges, to check the line elements of used curves |
 //! | [`MeshError`] | every failure, naming file, line or entity |
+//! | [`msh::element_type`] | the gmsh element type numbers, one place |
+//! | [`atomic`] | files written whole or not at all (partial file, then rename) |
 //!
 //! Pipeline: [`gmsh::mesh_geo`] (`.geo` -> `.msh`), [`read_msh`] (`.msh` ->
 //! [`Mesh`]), [`validate()`], [`insert_joints`], [`Summary`]; [`write_msh41`]
@@ -28,6 +30,7 @@
 //! [`insert_joints`], supports and loads in the solver's scene check) are
 //! edges of cells.
 
+pub mod atomic;
 pub mod error;
 pub mod geometry;
 pub mod gmsh;

@@ -23,16 +23,15 @@ fn write_atomic(
             what: format!("value {i}"),
         });
     }
-    let tmp = path.with_extension("csv.partial");
-    {
-        let mut w = csv::Writer::from_path(&tmp).map_err(|e| ReportError::write(&tmp, e))?;
-        w.write_record(header).map_err(|e| ReportError::write(&tmp, e))?;
+    axijoint_mesh::atomic::write(path, |out| {
+        let mut w = csv::Writer::from_writer(out);
+        w.write_record(header)?;
         for r in rows {
-            w.write_record(r).map_err(|e| ReportError::write(&tmp, e))?;
+            w.write_record(r)?;
         }
-        w.flush().map_err(|e| ReportError::write(&tmp, e))?;
-    }
-    std::fs::rename(&tmp, path).map_err(|e| ReportError::write(path, e))
+        w.flush()
+    })
+    .map_err(|e| ReportError::write(path, e))
 }
 
 fn num(v: f64) -> String {

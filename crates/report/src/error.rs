@@ -1,6 +1,7 @@
-//! Errors of the report crate.
+//! Errors of the report crate, and the check that refuses non-finite
+//! values.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// A report output that could not be made.
 #[derive(Debug, thiserror::Error)]
@@ -27,10 +28,26 @@ pub enum ReportError {
 }
 
 impl ReportError {
-    pub(crate) fn write(path: &std::path::Path, e: impl std::fmt::Display) -> Self {
+    pub(crate) fn write(path: &Path, e: impl std::fmt::Display) -> Self {
         ReportError::Write {
             path: path.to_path_buf(),
             message: e.to_string(),
         }
+    }
+}
+
+/// Fails with [`ReportError::NotFinite`] unless every value is finite.
+pub(crate) fn check_finite(
+    path: &Path,
+    values: &[f64],
+    what: impl FnOnce() -> String,
+) -> Result<(), ReportError> {
+    if values.iter().all(|v| v.is_finite()) {
+        Ok(())
+    } else {
+        Err(ReportError::NotFinite {
+            path: path.to_path_buf(),
+            what: what(),
+        })
     }
 }

@@ -23,23 +23,17 @@
 //! Written under a temporary name and renamed into place; a non-finite value
 //! fails with [`ReportError::NotFinite`] and leaves no file.
 
+use crate::error::check_finite;
 use crate::field::{Field, STRESS_NAMES};
-use crate::vtu::{check_finite, commit, write_temp};
 use crate::ReportError;
-use axijoint_mesh::{CellKind, JointKind};
+use axijoint_mesh::msh::element_type;
+use axijoint_mesh::{atomic, CellKind};
 use std::fmt::Write as _;
-use std::io::Write;
 use std::path::Path;
 
-/// gmsh element type of a meridional cell.
+/// gmsh element type of a meridional cell ([`element_type::of_cell`]).
 pub fn gmsh_type(kind: CellKind) -> u32 {
-    match kind {
-        CellKind::Tri3 => 2,
-        CellKind::Tri6 => 9,
-        CellKind::Quad4 => 3,
-        CellKind::Quad8 => 16,
-        CellKind::Quad9 => 10,
-    }
+    element_type::of_cell(kind) as u32
 }
 
 /// The view name of a field at an angle: `"sigma_z theta=180"`.
@@ -100,10 +94,7 @@ pub fn write_gmsh_view(path: &Path, field: &Field, theta_deg: &[f64]) -> Result<
     for (j, joint) in mesh.joints.iter().enumerate() {
         for el in &joint.elements {
             id += 1;
-            let t = match el.kind {
-                JointKind::Lin4 => 1,
-                JointKind::Lin6 => 8,
-            };
+            let t = element_type::of_joint_face(el.kind);
             let _ = write!(w, "{id} {t} 2 {0} {0}", joint_tags[j]);
             for &n in &el.bottom {
                 let _ = write!(w, " {}", n + 1);
@@ -156,8 +147,7 @@ pub fn write_gmsh_view(path: &Path, field: &Field, theta_deg: &[f64]) -> Result<
             let _ = writeln!(w, "$EndElementNodeData");
         }
     }
-    let tmp = write_temp(path, |out| out.write_all(s.as_bytes()))?;
-    commit(&tmp, path)
+    atomic::write_bytes(path, s.as_bytes()).map_err(|e| ReportError::write(path, e))
 }
 
 /// A name inside gmsh's double quotes (no quote or newline inside).

@@ -89,7 +89,7 @@ impl Model3d {
             if e.entity_dim != 3 {
                 continue;
             }
-            if e.gmsh_type != 11 {
+            if e.gmsh_type != axijoint_mesh::msh::element_type::TET10 {
                 bail!(
                     "{}: volume element {} has gmsh type {}, expected 11 (10-node tetrahedron; mesh with order 2)",
                     path.display(),

@@ -198,7 +198,7 @@ pub fn solve_adaptive(
     }
     header.record.get_or_insert_with(Default::default).adapt = Some(table);
     let path = out.join("solution.json");
-    std::fs::write(&path, serde_json::to_string_pretty(&header)?)?;
+    axijoint_mesh::atomic::write_bytes(&path, serde_json::to_string_pretty(&header)?.as_bytes())?;
     Ok(header)
 }
 

@@ -113,10 +113,9 @@ pub fn run_cases(path: &Path, scene: &Scene, options: &Options) -> Result<()> {
         title: scene.title.clone(),
         cases: index,
     })?;
-    let tmp_index = out.join(format!(".{CASES_INDEX}.partial"));
-    std::fs::write(&tmp_index, text).with_context(|| format!("writing {}", tmp_index.display()))?;
-    std::fs::rename(&tmp_index, out.join(CASES_INDEX))
-        .with_context(|| format!("writing {}", out.display()))?;
+    let index = out.join(CASES_INDEX);
+    axijoint_mesh::atomic::write_bytes(&index, text.as_bytes())
+        .with_context(|| format!("writing {}", index.display()))?;
     if options.report {
         for (_, dir, _) in &outcomes {
             if dir.join("solution.json").is_file() {

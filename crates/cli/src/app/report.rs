@@ -193,9 +193,7 @@ pub fn write_outputs(dir: &Path, compare: &[PathBuf]) -> Result<Summary> {
         units: h.scene.units.clone(),
     };
     let path = dir.join("summary.json");
-    let tmp = dir.join(".summary.json.partial");
-    std::fs::write(&tmp, serde_json::to_string_pretty(&summary)?)?;
-    std::fs::rename(&tmp, &path)?;
+    axijoint_mesh::atomic::write_bytes(&path, serde_json::to_string_pretty(&summary)?.as_bytes())?;
     Ok(summary)
 }
 

@@ -196,16 +196,13 @@ pub fn put(dir: &Path, key: &str, msh: &[u8]) -> std::io::Result<()> {
     let target = entry_path(dir, key);
     let folder = target.parent().expect("entries sit in a folder");
     std::fs::create_dir_all(folder)?;
-    let mut tmp = tempfile::Builder::new()
-        .prefix(".tmp-")
-        .suffix(".msh")
-        .tempfile_in(folder)?;
     let header = format!("{MAGIC} {VERSION} {} {}\n", msh.len(), hex(&Sha256::digest(msh)));
-    tmp.write_all(header.as_bytes())?;
-    tmp.write_all(msh)?;
-    tmp.as_file().sync_all()?;
-    tmp.persist(&target).map_err(|e| e.error)?;
-    Ok(())
+    crate::atomic::write(&target, |tmp| {
+        tmp.write_all(header.as_bytes())?;
+        tmp.write_all(msh)?;
+        tmp.flush()?;
+        tmp.get_ref().sync_all()
+    })
 }
 
 fn hex(bytes: &[u8]) -> String {

@@ -19,6 +19,7 @@
 
 mod convert;
 mod cursor;
+pub mod element_type;
 mod types;
 mod v22;
 mod v41;

@@ -1,6 +1,8 @@
 //! gmsh element types: node counts (needed to read any element) and what
-//! axijoint makes of them.
+//! axijoint makes of them (the numbers it uses are named in
+//! [`element_type`](super::element_type)).
 
+use super::element_type::{LINE2, LINE3, POINT, QUAD4, QUAD8, QUAD9, TET10, TRI3, TRI6};
 use crate::{CellKind, EdgeKind};
 
 /// A gmsh element type the reader knows the size of.
@@ -18,22 +20,22 @@ pub(super) struct TypeInfo {
 /// (`GmshDefines.h` numbering), or `None` for a type we cannot even size.
 pub(super) fn type_info(t: i32) -> Option<TypeInfo> {
     let (nodes, dim, name) = match t {
-        1 => (2, 1, "2-node line"),
-        2 => (3, 2, "3-node triangle"),
-        3 => (4, 2, "4-node quadrangle"),
+        LINE2 => (2, 1, "2-node line"),
+        TRI3 => (3, 2, "3-node triangle"),
+        QUAD4 => (4, 2, "4-node quadrangle"),
         4 => (4, 3, "4-node tetrahedron"),
         5 => (8, 3, "8-node hexahedron"),
         6 => (6, 3, "6-node prism"),
         7 => (5, 3, "5-node pyramid"),
-        8 => (3, 1, "3-node line"),
-        9 => (6, 2, "6-node triangle"),
-        10 => (9, 2, "9-node quadrangle"),
-        11 => (10, 3, "10-node tetrahedron"),
+        LINE3 => (3, 1, "3-node line"),
+        TRI6 => (6, 2, "6-node triangle"),
+        QUAD9 => (9, 2, "9-node quadrangle"),
+        TET10 => (10, 3, "10-node tetrahedron"),
         12 => (27, 3, "27-node hexahedron"),
         13 => (18, 3, "18-node prism"),
         14 => (14, 3, "14-node pyramid"),
-        15 => (1, 0, "1-node point"),
-        16 => (8, 2, "8-node quadrangle"),
+        POINT => (1, 0, "1-node point"),
+        QUAD8 => (8, 2, "8-node quadrangle"),
         17 => (20, 3, "20-node hexahedron"),
         18 => (15, 3, "15-node prism"),
         19 => (13, 3, "13-node pyramid"),
@@ -73,14 +75,14 @@ pub(super) enum Role {
 /// The role of gmsh type `t`, `None` if axijoint does not use it.
 pub(super) fn role(t: i32) -> Option<Role> {
     Some(match t {
-        2 => Role::Cell(CellKind::Tri3),
-        9 => Role::Cell(CellKind::Tri6),
-        3 => Role::Cell(CellKind::Quad4),
-        16 => Role::Cell(CellKind::Quad8),
-        10 => Role::Cell(CellKind::Quad9),
-        1 => Role::Edge(EdgeKind::Lin2),
-        8 => Role::Edge(EdgeKind::Lin3),
-        15 => Role::Point,
+        TRI3 => Role::Cell(CellKind::Tri3),
+        TRI6 => Role::Cell(CellKind::Tri6),
+        QUAD4 => Role::Cell(CellKind::Quad4),
+        QUAD8 => Role::Cell(CellKind::Quad8),
+        QUAD9 => Role::Cell(CellKind::Quad9),
+        LINE2 => Role::Edge(EdgeKind::Lin2),
+        LINE3 => Role::Edge(EdgeKind::Lin3),
+        POINT => Role::Point,
         _ => return None,
     })
 }

@@ -1,28 +1,10 @@
 //! Writing a [`Mesh`] as gmsh MSH 4.1 ASCII, joints included: see
 //! [`write_msh41`].
 
-use crate::{CellKind, EdgeKind, JointKind, Mesh};
+use super::element_type;
+use crate::{EdgeKind, JointKind, Mesh};
 use std::collections::{BTreeMap, HashMap, HashSet};
 use std::io::{self, Write};
-
-/// gmsh element type of a cell.
-fn cell_type(kind: CellKind) -> i32 {
-    match kind {
-        CellKind::Tri3 => 2,
-        CellKind::Tri6 => 9,
-        CellKind::Quad4 => 3,
-        CellKind::Quad8 => 16,
-        CellKind::Quad9 => 10,
-    }
-}
-
-/// gmsh element type of a line element.
-fn edge_type(kind: EdgeKind) -> i32 {
-    match kind {
-        EdgeKind::Lin2 => 1,
-        EdgeKind::Lin3 => 8,
-    }
-}
 
 /// The 4-node quadrangles of a joint element: `[b0, b1, t1, t0]`; a 6-node
 /// element gives two, `[b0, b2, t2, t0]` and `[b2, b1, t1, t2]`.
@@ -169,7 +151,7 @@ pub fn write_msh41(mesh: &Mesh, w: &mut impl Write) -> io::Result<()> {
     for (n, tags) in point_groups {
         let e = points.add(tags);
         points.entities[e].nodes.push(n);
-        push_element(&mut point_blocks, e, 15, vec![n]);
+        push_element(&mut point_blocks, e, element_type::POINT, vec![n]);
     }
 
     // Curve entities: each line element once, with every (non-joint) curve
@@ -199,7 +181,7 @@ pub fn write_msh41(mesh: &Mesh, w: &mut impl Write) -> io::Result<()> {
         tags.sort_unstable();
         let e = curves.get(entity, tags);
         curves.entities[e].nodes.extend(&nodes);
-        push_element(&mut curve_blocks, e, edge_type(kind), nodes);
+        push_element(&mut curve_blocks, e, element_type::of_edge(kind), nodes);
     }
 
     // Surface entities: the cells', then one per joint.
@@ -212,14 +194,19 @@ pub fn write_msh41(mesh: &Mesh, w: &mut impl Write) -> io::Result<()> {
         for &n in &cell.nodes {
             owner[n].get_or_insert((2, e));
         }
-        push_element(&mut surface_blocks, e, cell_type(cell.kind), cell.nodes.clone());
+        push_element(
+            &mut surface_blocks,
+            e,
+            element_type::of_cell(cell.kind),
+            cell.nodes.clone(),
+        );
     }
     for (joint, &tag) in mesh.joints.iter().zip(&joint_tags) {
         let e = surfaces.add(vec![tag]);
         for el in &joint.elements {
             for q in joint_quads(el.kind, &el.bottom, &el.top) {
                 surfaces.entities[e].nodes.extend(q);
-                push_element(&mut surface_blocks, e, 3, q.to_vec());
+                push_element(&mut surface_blocks, e, element_type::QUAD4, q.to_vec());
             }
         }
     }
