@@ -165,3 +165,31 @@ def test_the_comparison_without_joints_follows_the_scene(tmp_path):
         out = tmp_path / name
         axijoint.run(SCENE, out, overrides=overrides, report=False, without_joints=flag)
         assert (out / "without_joints" / "solution.json").is_file() == expected, name
+
+
+def test_load_cases_equal_the_binary(tmp_path):
+    """A scene with load cases runs through the binary's own path: one
+    folder per case and cases.json, as `axijoint run`."""
+    scene = json.loads((ROOT / SCENE).read_text())
+    load = scene.pop("loads")[0]
+    turned = {**load, "force": [0.0, load["force"][0], 0.0]}
+    scene["load_cases"] = [{"name": "x", "loads": [load]}, {"name": "y", "loads": [turned]}]
+    scene["mesh"]["parameters"]["size"] = COARSE
+    path = ROOT / "geo" / "cases_py.json"
+    cli = tmp_path / "cli"
+    try:
+        path.write_text(json.dumps(scene, indent=2))
+        subprocess.run([BINARY, "run", path, "-o", cli, "--quiet"], check=True, stdout=subprocess.DEVNULL)
+        cases = axijoint.run(path, tmp_path / "py")
+    finally:
+        path.unlink()
+    assert isinstance(cases, axijoint.Cases) and cases.names == ["x", "y"]
+    expected = json.loads((cli / "cases.json").read_text())
+    close({k: v for k, v in cases.index.items() if k != "scene"}, {k: v for k, v in expected.items() if k != "scene"})
+    for name in cases.names:
+        r = cases[name]
+        close(r.summary, json.loads((cli / name / "summary.json").read_text()))
+    # The load turned by 90 degrees about the axis turns the answer.
+    x, y = cases["x"].summary["loaded_faces"]["pile_end"], cases["y"].summary["loaded_faces"]["pile_end"]
+    print("turned:", x, y)
+    assert math.isclose(y[1], x[0], rel_tol=1e-9) and abs(y[0]) < 1e-12 * abs(x[0])

@@ -282,7 +282,7 @@ fn run_variant(args: &Args, variant: &str, rows: &mut Vec<Row>) -> Result<(), St
     };
     let refine = scene.mesh.parameters.get("refine").copied().unwrap_or(f64::NAN);
     let m_max = args.harmonics;
-    if !scene.joints.values().any(|j| j.law != JointLaw::Linear) {
+    if !scene.has_nonlinear_joints() {
         return Err(format!("{variant}: no nonlinear joint"));
     }
 

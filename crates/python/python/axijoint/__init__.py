@@ -41,6 +41,7 @@ __all__ = [
     "run",
     "sweep",
     "Result",
+    "Cases",
     "Error",
     "InputError",
     "BeyondCapacity",
@@ -233,6 +234,39 @@ class Result:
             self._tmp = None
 
 
+class Cases:
+    """The folder of a scene with `load_cases`: `index` (cases.json as a
+    dict) and one `Result` per case, by name (`cases["uplift"]`), each
+    solved from the same initial state on one set of factors."""
+
+    def __init__(self, folder: Path, tmp: tempfile.TemporaryDirectory | None = None):
+        self.folder = Path(folder)
+        self._tmp = tmp
+        self.index = json.loads((self.folder / "cases.json").read_text())
+
+    def __repr__(self) -> str:
+        return f"axijoint.Cases({str(self.folder)!r})"
+
+    @property
+    def names(self) -> list[str]:
+        """The cases, in the scene's order."""
+        return [c["name"] for c in self.index["cases"]]
+
+    def __getitem__(self, name: str) -> Result:
+        for c in self.index["cases"]:
+            if c["name"] == name:
+                if not c["converged"]:
+                    raise InputError(f"load case {name}: {c.get('error')}")
+                return Result(self.folder / c["folder"])
+        raise InputError(f"no load case {name!r} (the scene has: {', '.join(self.names)})")
+
+    def close(self) -> None:
+        """Removes the temporary folder now (no-op for a given `output`)."""
+        if self._tmp is not None:
+            self._tmp.cleanup()
+            self._tmp = None
+
+
 def run(
     scene,
     output=None,
@@ -242,7 +276,7 @@ def run(
     report: bool = True,
     without_joints: bool | None = None,
     **kwargs,
-) -> Result:
+) -> Result | Cases:
     """Meshes, solves and reports a scene, as `axijoint run SCENE -o OUTPUT`.
 
     `scene`: a scene file, or a dict in the scene format; a dict's relative
@@ -260,6 +294,7 @@ def run(
     binary, `exit_status` set) with the binary's message. A stepped run that
     stops at its limit load factor is no failure here: see
     `Result.complete`, `Result.limit_load_factor`, `Result.exit_status`.
+    A scene with `load_cases` gives `Cases` (a `Result` per case).
     """
     path, text = _scene_source(scene, base_dir, _overrides(overrides, kwargs))
     tmp = None
@@ -274,6 +309,8 @@ def run(
         if tmp is not None:
             tmp.cleanup()
         raise
+    if (out / "cases.json").is_file() and not (out / "solution.json").is_file():
+        return Cases(out, tmp)
     return Result(out, tmp)
 
 
