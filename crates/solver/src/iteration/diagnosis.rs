@@ -1,9 +1,9 @@
 //! Why an iteration stopped: no equilibrium, a joint too stiff for the
 //! iteration, or the iteration limit.
 
-use super::release::Eval;
+use super::eval::Eval;
 use super::setup::Setup;
-use super::{IterationError, IterationRecord, IterationSettings};
+use super::types::{solves, IterationError, IterationRecord, IterationSettings};
 use crate::joint_law::JointState;
 
 /// The end at the iteration limit: `NotConverged`, or `StiffJoint` when the
@@ -34,7 +34,7 @@ pub(super) fn not_converged(
     IterationError::NotConverged {
         last: None,
         iterations: history.len() as u32,
-        solves: super::solves(&history),
+        solves: solves(&history),
         limit: settings.max_iterations,
         ratio,
         epsilon: settings.epsilon,

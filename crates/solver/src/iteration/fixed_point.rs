@@ -1,9 +1,10 @@
 //! The fixed-point iteration `x <- Psi(x)`: the paper's plain iteration and
 //! Anderson mixing.
 
+use super::attempt::{Converged, Failure, Start};
 use super::diagnosis::{no_equilibrium, not_converged, residual_limit, unresolved};
 use super::setup::Setup;
-use super::{Converged, Failure, IterationRecord, IterationSettings, Start};
+use super::types::{IterationRecord, IterationSettings};
 use std::time::Instant;
 
 /// Anderson mixing (type II) of a fixed point `x = Psi(x)` from the

@@ -2,7 +2,7 @@
 //! the traction form (`traction`) implement it; the Newton loop, its
 //! Krylov solver and line search are written once against it.
 
-use super::release::Eval;
+use super::eval::Eval;
 use super::setup::{JointAmplitudes, Setup};
 
 /// Halvings of the Newton step before the plain step is taken instead

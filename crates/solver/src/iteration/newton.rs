@@ -5,12 +5,15 @@
 //! ([`Traction`](super::traction::Traction)); and its Krylov solver
 //! ([`Krylov`]).
 
+use super::attempt::{Converged, Failure, Start};
 use super::diagnosis::{no_equilibrium, not_converged, unresolved};
+use super::eval::Eval;
 use super::formulation::{Formulation, NEWTON_HALVINGS};
-use super::release::{Eval, Tangent};
+use super::release::Tangent;
 use super::setup::{JointAmplitudes, Setup};
 use super::traction::Traction;
-use super::{axpy, dot, norm, Converged, Failure, IterationRecord, IterationSettings, Start};
+use super::types::{IterationRecord, IterationSettings};
+use super::{axpy, dot, norm};
 use std::collections::VecDeque;
 use std::time::Instant;
 

@@ -1,11 +1,11 @@
 //! The fixed-point map of a run and the traction form's residual, for tests
 //! and diagnostics ([`FixedPoint`]): the same evaluations the iteration uses.
 
+use super::eval::Eval;
 use super::formulation::Formulation;
-use super::release::Eval;
 use super::setup::Setup;
 use super::traction::Traction;
-use super::IterationError;
+use super::types::IterationError;
 use crate::fourier::Sections;
 use crate::joint_law::JointState;
 use crate::linear::{HarmonicFactor, Model};

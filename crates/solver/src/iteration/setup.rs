@@ -4,9 +4,10 @@
 //! of `Psi`; and [`FixedPoint`], the same evaluation for tests and
 //! diagnostics.
 
+use super::attempt::Converged;
+use super::eval::Eval;
 use super::interface::Interface;
-use super::release::Eval;
-use super::{Converged, IterationError, IterationRecord, JointField, JointStart, Outcome, PointInfo};
+use super::types::{IterationError, IterationRecord, JointField, JointStart, Outcome, PointInfo};
 use crate::elements::JointSprings;
 use crate::fourier::{Family, Sections};
 use crate::joint_law::{relative_trial, state_counts, JointState, PointHistory};
@@ -156,7 +157,7 @@ impl<'a> Setup<'a> {
         }
 
         // Points and joint nodes.
-        let points = super::joint_point_infos(model);
+        let points = super::types::joint_point_infos(model);
         let joint_nodes = model.joint_nodes().to_vec();
         let mut where_ = vec![usize::MAX; n];
         for (j, &k) in joint_nodes.iter().enumerate() {

@@ -36,12 +36,12 @@
 //! one-shot run), so a step is converged to the same absolute accuracy
 //! whatever its size.
 
+use super::attempt::{Converged, Start};
 use super::diagnosis::unbalanced;
+use super::fixed_point::fixed_point;
+use super::newton::newton;
 use super::setup::{Setup, IMBALANCE_TOL};
-use super::{
-    fixed_point::fixed_point, newton::newton, solves, Converged, IterationError, IterationRecord,
-    IterationSettings, Method, Outcome, Start,
-};
+use super::types::{solves, IterationError, IterationRecord, IterationSettings, Method, Outcome};
 use crate::fourier::Sections;
 use crate::joint_law::{commit, exceeds_tensile_strength, state_counts, PointHistory};
 use crate::linear::{HarmonicFactor, Model};
@@ -178,9 +178,9 @@ pub fn stress_transfer_stepped<T>(
     settings: &IterationSettings,
     control: StepControl,
     elastic: Option<&Displacements>,
-    start: Option<&super::JointStart>,
+    start: Option<&super::types::JointStart>,
     mut progress: impl FnMut(&IterationRecord),
-    mut observe: impl FnMut(f64, &Displacements, &super::JointField) -> T,
+    mut observe: impl FnMut(f64, &Displacements, &super::types::JointField) -> T,
 ) -> Result<Stepped<T>, IterationError> {
     let mut setup = Setup::new(model, factors, loads, laws, sections, elastic, start)?;
     let n_pairs = setup.n_pairs();

@@ -37,11 +37,12 @@
 //! ([`BlockPreconditioner`]): `J^-1 r = -(y + Dd^-1 Dv k_a B S P^-1 A G y)`,
 //! `y = Dd^-1 r`, exact when the interface is small.
 
+use super::attempt::Start;
+use super::eval::Eval;
 use super::formulation::{Formulation, NEWTON_HALVINGS_STIFF};
 use super::precondition::BlockPreconditioner;
-use super::release::{law_tangent, Eval, Tangent};
+use super::release::{law_tangent, Tangent};
 use super::setup::{JointAmplitudes, Setup};
-use super::Start;
 use nalgebra::Matrix3;
 use rayon::prelude::*;
 
