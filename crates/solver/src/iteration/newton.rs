@@ -2,7 +2,7 @@
 //! ([`Formulation`]): the released section forces x, `R(x) = Psi(x) - x = 0`
 //! ([`Nodal`]), or, where a joint is assembled softer than its law
 //! (`k h / E > 1`), the released tractions per (section, point)
-//! ([`Traction`](super::traction::Traction)); and its Krylov solver
+//! ([`Traction`]); and its Krylov solver
 //! ([`Krylov`]).
 
 use super::attempt::{Converged, Failure, Start};
@@ -10,10 +10,10 @@ use super::diagnosis::{no_equilibrium, not_converged, unresolved};
 use super::eval::Eval;
 use super::formulation::{Formulation, NEWTON_HALVINGS};
 use super::release::Tangent;
-use super::setup::{JointAmplitudes, Setup};
+use super::sweep::Sweep;
 use super::traction::Traction;
+use super::transfer::JointAmplitudes;
 use super::types::{IterationRecord, IterationSettings};
-use super::{axpy, dot, norm};
 use std::collections::VecDeque;
 use std::time::Instant;
 
@@ -34,26 +34,26 @@ const NEWTON_ETA_MAX: f64 = 0.3;
 /// is as good as the harmonic-block preconditioner (measured on Scene P at
 /// k_eta h / E = 0.125 to 1).
 pub(super) struct Nodal<'s, 'a> {
-    setup: &'s Setup<'a>,
+    sweep: Sweep<'s, 'a>,
     tangents: Vec<Tangent>,
 }
 
 impl<'s, 'a> Nodal<'s, 'a> {
-    pub(super) fn new(setup: &'s Setup<'a>) -> Self {
+    pub(super) fn new(sweep: Sweep<'s, 'a>) -> Self {
         Nodal {
-            setup,
-            tangents: vec![None; setup.n_pairs()],
+            sweep,
+            tangents: vec![None; sweep.setup.n_pairs()],
         }
     }
 }
 
 impl Formulation for Nodal<'_, '_> {
-    fn setup(&self) -> &Setup<'_> {
-        self.setup
+    fn sweep(&self) -> &Sweep<'_, '_> {
+        &self.sweep
     }
 
     fn len(&self) -> usize {
-        self.setup.len()
+        self.sweep.setup.len()
     }
 
     fn forces(&self, y: &[f64], x: &mut [f64]) {
@@ -61,7 +61,7 @@ impl Formulation for Nodal<'_, '_> {
     }
 
     fn residual(&self, y: &[f64], ev: &mut Eval, res: &mut [f64]) {
-        self.setup.release_all(ev);
+        self.sweep.release_all(ev);
         for ((r, g), x) in res.iter_mut().zip(&ev.g).zip(y) {
             *r = g - x;
         }
@@ -72,11 +72,11 @@ impl Formulation for Nodal<'_, '_> {
     }
 
     fn linearize(&mut self, _y: &[f64], ev: &Eval) {
-        self.setup.tangents(ev, &mut self.tangents);
+        self.sweep.tangents(ev, &mut self.tangents);
     }
 
     fn apply_j(&self, z: &[f64], wz: &[f64], out: &mut [f64]) {
-        self.setup.apply_tangent(&self.tangents, wz, out);
+        self.sweep.apply_tangent(&self.tangents, wz, out);
         axpy(-1.0, z, out);
     }
 
@@ -222,7 +222,7 @@ impl Krylov {
             }
             let mut w = self.buffer(w_delta.len());
             form.forces(&z, x);
-            form.setup().apply_w(x, released, &mut w);
+            form.sweep().apply_w(x, released, &mut w);
             sweeps += 1;
             self.push(z, w);
             if !self.orthogonalize(form, self.z.len() - 1, &mut r, &mut c) {
@@ -282,24 +282,24 @@ impl Krylov {
 /// released forces outgrow what the residual can resolve ([`unresolved`]),
 /// or when the residual grows past 1e6 Psi_0.
 pub(super) fn newton(
-    setup: &Setup,
+    sweep: &Sweep,
     settings: &IterationSettings,
     from: Start,
     progress: &mut dyn FnMut(&IterationRecord),
 ) -> Result<Converged, Box<Failure>> {
-    if setup.softened() {
-        let mut form = Traction::new(setup);
+    if sweep.setup.softened() {
+        let mut form = Traction::new(*sweep);
         let y0 = form.start(&from);
-        solve(setup, &mut form, y0, settings, from, progress)
+        solve(sweep, &mut form, y0, settings, from, progress)
     } else {
         let y0 = from.x0.clone();
-        solve(setup, &mut Nodal::new(setup), y0, settings, from, progress)
+        solve(sweep, &mut Nodal::new(*sweep), y0, settings, from, progress)
     }
 }
 
 /// [`newton`] on formulation `form` from `y`.
 fn solve(
-    setup: &Setup,
+    sweep: &Sweep,
     form: &mut dyn Formulation,
     mut y: Vec<f64>,
     settings: &IterationSettings,
@@ -307,8 +307,9 @@ fn solve(
     progress: &mut dyn FnMut(&IterationRecord),
 ) -> Result<Converged, Box<Failure>> {
     let start = Instant::now();
+    let setup = sweep.setup;
     let (ny, nx) = (form.len(), setup.len());
-    let mut released = setup.zero_loads();
+    let mut released = setup.transfer.zeros();
     let mut acc = setup.new_eval();
     let mut trial = setup.new_eval();
     let mut y_trial = vec![0.0; ny];
@@ -326,7 +327,7 @@ fn solve(
                     res: &mut [f64],
                     x: &mut [f64]| {
         form.forces(y, x);
-        form.setup().displace(x, released, &mut ev.u_s);
+        form.sweep().displace(x, released, &mut ev.u_s);
         form.residual(y, ev, res);
     };
     let mut res = vec![0.0; ny];
@@ -353,7 +354,7 @@ fn solve(
     let psi0 = from.psi_ref.unwrap_or(psi_first);
     let nothing_released = psi0 <= 1e-14 * setup.load_scale().max(f64::MIN_POSITIVE);
     let first_ratio = if nothing_released { 0.0 } else { psi_first / psi0 };
-    let record = setup.record(1, first_ratio, &acc, start, first_solves);
+    let record = sweep.record(1, first_ratio, &acc, start, first_solves);
     progress(&record);
     let mut history = vec![record];
     if !psi_first.is_finite() {
@@ -454,7 +455,7 @@ fn solve(
             ratio = setup.section_max(&rx) / psi0;
         }
         total += sweeps;
-        let record = setup.record(step, ratio, &acc, start, sweeps);
+        let record = sweep.record(step, ratio, &acc, start, sweeps);
         progress(&record);
         history.push(record);
         form.forces(&y, &mut x);
@@ -503,4 +504,19 @@ fn solve(
         }
     }
     Err(Failure::new(not_converged(setup, &rx, settings, history), x, acc))
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+fn norm(a: &[f64]) -> f64 {
+    dot(a, a).sqrt()
+}
+
+/// `y += alpha x`.
+fn axpy(alpha: f64, x: &[f64], y: &mut [f64]) {
+    for (yi, xi) in y.iter_mut().zip(x) {
+        *yi += alpha * xi;
+    }
 }

@@ -1,14 +1,36 @@
-//! The iteration's public types: its settings ([`IterationSettings`]),
-//! where the joints start ([`JointStart`]), what it gives ([`Outcome`],
-//! [`JointField`], [`IterationRecord`]) and why it stops
-//! ([`IterationError`]).
+//! The iteration's public types: its settings ([`IterationSettings`]), the
+//! problem it solves ([`Problem`]), where the joints start ([`JointStart`]),
+//! what it gives ([`Outcome`], [`JointField`], [`IterationRecord`]) and why
+//! it stops ([`IterationError`]).
 
 use crate::elements::JointPoint;
 use crate::fourier::Sections;
 use crate::joint_law::JointState;
-use crate::linear::Model;
+use crate::linear::{HarmonicFactor, Model};
+use crate::loads::HarmonicLoads;
+use crate::scene::JointLaw;
 use crate::solution::Displacements;
 use serde::{Deserialize, Serialize};
+
+/// The problem an iteration solves: the loads of `model` (every harmonic
+/// factorized in `factors`), `laws[j]` the law of `model.joints[j]`,
+/// evaluated at `sections`.
+#[derive(Clone, Copy)]
+pub struct Problem<'a> {
+    /// The model.
+    pub model: &'a Model,
+    /// The factors of (at least) every harmonic of `loads`.
+    pub factors: &'a [HarmonicFactor],
+    /// The loads, per harmonic.
+    pub loads: &'a [HarmonicLoads],
+    /// The law of each joint of the model.
+    pub laws: &'a [JointLaw],
+    /// Where the joints are evaluated around the turn.
+    pub sections: &'a Sections,
+    /// The elastic solution `K^-1 F` of (some of) the harmonics of `loads`,
+    /// if known: those cost no solve.
+    pub elastic: Option<&'a Displacements>,
+}
 
 /// How the next released forces are chosen.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
