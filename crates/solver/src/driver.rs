@@ -704,8 +704,7 @@ pub fn initial_phase(
     linear: &LinearRun,
     progress: impl FnMut(&crate::iteration::IterationRecord),
 ) -> Result<InitialState, SolverError> {
-    use crate::iteration::StepControl;
-    use crate::scene::{JointLaw, Loading};
+    use crate::scene::JointLaw;
     let model = &linear.model;
     let il = crate::initial::initial_load(scene, model)?;
     let n = model.mesh.nodes.len();
@@ -736,50 +735,28 @@ pub fn initial_phase(
             beyond_capacity: matches!(e, crate::iteration::IterationError::NoEquilibrium { .. }),
             message: e.to_string(),
         };
-        let outcome = match scene.solver.loading {
-            Loading::OneShot => crate::iteration::stress_transfer_from(
-                model,
-                &linear.factors,
-                &loads,
-                &laws,
-                &sections,
-                &settings,
-                None,
-                Some(&start),
-                progress,
-            )
-            .map_err(failed)?,
-            loading => {
-                let control = match loading {
-                    Loading::Steps(k) => StepControl::steps(k),
-                    _ => StepControl::AUTO,
-                };
-                let stepped = crate::iteration::stress_transfer_stepped(
-                    model,
-                    &linear.factors,
-                    &loads,
-                    &laws,
-                    &sections,
-                    &settings,
-                    control,
-                    None,
-                    Some(&start),
-                    progress,
-                    |_, _, _| (),
-                )
-                .map_err(failed)?;
-                if let Some(limit) = stepped.limit {
-                    return Err(SolverError::InitialPhase {
-                        message: format!(
-                            "the joints cannot carry the initial state: the phase reached only {:.4} of its load ({})",
-                            limit.factor, limit.reason
-                        ),
-                        beyond_capacity: limit.beyond_capacity,
-                    });
-                }
-                stepped.outcome
-            }
+        let problem = crate::iteration::Problem {
+            model,
+            factors: &linear.factors,
+            loads: &loads,
+            laws: &laws,
+            sections: &sections,
+            elastic: None,
         };
+        let loading = scene.solver.loading.into();
+        let solved =
+            crate::iteration::solve(&problem, &settings, Some(&start), loading, |_, _, _| (), progress)
+                .map_err(failed)?;
+        if let Some(limit) = solved.stepped.and_then(|s| s.limit) {
+            return Err(SolverError::InitialPhase {
+                message: format!(
+                    "the joints cannot carry the initial state: the phase reached only {:.4} of its load ({})",
+                    limit.factor, limit.reason
+                ),
+                beyond_capacity: limit.beyond_capacity,
+            });
+        }
+        let outcome = solved.outcome;
         let iterations = outcome.history.len();
         let field = outcome.field;
         (
@@ -919,30 +896,18 @@ fn iterate(
     progress: impl FnMut(&crate::iteration::IterationRecord),
 ) -> Result<(crate::iteration::Outcome, Option<LoadPath>), SolverError> {
     let start = initial.map(|i| i.joint_start(sections.len()));
-    use crate::iteration::StepControl;
-    use crate::scene::Loading;
     let loads: Vec<HarmonicLoads> = linear.loads.iter().filter(|h| h.m <= m).cloned().collect();
     let laws = joint_laws(scene, &linear.model);
     let settings = iteration_settings(scene);
     // linear.displacements is the elastic solution here (both callers
     // replace it only after their last iteration).
-    let control = match scene.solver.loading {
-        Loading::OneShot => {
-            let outcome = crate::iteration::stress_transfer_from(
-                &linear.model,
-                &linear.factors,
-                &loads,
-                &laws,
-                sections,
-                &settings,
-                Some(&linear.displacements),
-                start.as_ref(),
-                progress,
-            )?;
-            return Ok((outcome, None));
-        }
-        Loading::Steps(n) => StepControl::steps(n),
-        Loading::Auto => StepControl::AUTO,
+    let problem = crate::iteration::Problem {
+        model: &linear.model,
+        factors: &linear.factors,
+        loads: &loads,
+        laws: &laws,
+        sections,
+        elastic: Some(&linear.displacements),
     };
     let mesh = &linear.model.mesh;
     let springs: Vec<_> = linear.model.joints.iter().map(|j| j.springs).collect();
@@ -970,26 +935,13 @@ fn iterate(
                 .collect(),
         }
     };
-    let stepped = crate::iteration::stress_transfer_stepped(
-        &linear.model,
-        &linear.factors,
-        &loads,
-        &laws,
-        sections,
-        &settings,
-        control,
-        Some(&linear.displacements),
-        start.as_ref(),
-        progress,
-        observe,
-    )?;
-    Ok((
-        stepped.outcome,
-        Some(LoadPath {
-            steps: stepped.steps,
-            limit: stepped.limit,
-        }),
-    ))
+    let loading = scene.solver.loading.into();
+    let solved = crate::iteration::solve(&problem, &settings, start.as_ref(), loading, observe, progress)?;
+    let path = solved.stepped.map(|s| LoadPath {
+        steps: s.steps,
+        limit: s.limit,
+    });
+    Ok((solved.outcome, path))
 }
 
 /// The motion of a loaded face ([`FaceMotion`]); `None` if the curve has no area.

@@ -66,9 +66,7 @@ mod traction;
 mod transfer;
 mod types;
 
-pub use entry::{
-    solve, stress_transfer, stress_transfer_from, stress_transfer_stepped, Solved, SteppedRun, Stepping,
-};
+pub use entry::{solve, stress_transfer, Solved, Stepping};
 pub use probe::FixedPoint;
 pub use steps::{
     LimitLoad, LoadStep, StepControl, Stepped, BRACKET, EASY_ITERATIONS, MAX_CUTBACKS, MAX_ROUNDS,
