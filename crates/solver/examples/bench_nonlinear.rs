@@ -17,7 +17,7 @@
 //!   (`solve_s`) and the reactions (`reactions_s`); `linear_s` is their sum;
 //! - per method: the nonlinear solution with harmonics 0..=M along the
 //!   scene format's default load path (`{"steps": "auto"}`: stepped, the
-//!   history law; `scene_sections` + `iteration::stress_transfer_stepped`,
+//!   history law; `scene_sections` + `iteration::solve`,
 //!   `iterate_s`), the
 //!   M/2 comparison `solve_scene` runs after it (`check_s`) and the
 //!   reactions of the final displacements (`final_reactions_s`).
@@ -30,7 +30,7 @@
 //! harmonics the iteration cost; `per_sweep_s` = `iterate_s / sweeps`.
 //! From the iteration's own clock (`IterationRecord::seconds`, medians over
 //! the timed runs): `first_s` up to the end of the first sweep, `sweep_s` the mean
-//! cost of each later sweep, `outside_s` what `stress_transfer` and the
+//! cost of each later sweep, `outside_s` what `iteration::solve` and the
 //! sections cost before its clock starts and after its last record (the
 //! setup, with its full elastic solve, and the final full solve of the
 //! displacements). `check_ratio` = (linear + iteration + M/2 check) / linear.
@@ -52,13 +52,13 @@
 //! cargo run --release -p axijoint-solver --example bench_nonlinear -- --print-header
 //! ```
 
-use axijoint_solver::iteration::{stress_transfer_from, stress_transfer_stepped, Outcome, StepControl};
+use axijoint_solver::iteration::{solve, Outcome, Problem};
 use axijoint_solver::linear::{HarmonicFactor, Model};
 use axijoint_solver::loads::{assemble_loads, HarmonicLoads};
 use axijoint_solver::run::{
     build_model, iteration_settings, mesh_scene, reactions, scene_sections, solve_loads, solve_scene,
 };
-use axijoint_solver::scene::{JointLaw, Loading, Scene, SolverMethod, SolverSettings};
+use axijoint_solver::scene::{JointLaw, Scene, SolverMethod, SolverSettings};
 use axijoint_solver::solution::Displacements;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -224,38 +224,16 @@ fn iterate(
     let sections = scene_sections(scene, loads).map_err(|e| e.to_string())?;
     let loads: Vec<HarmonicLoads> = loads.iter().filter(|h| h.m <= m).cloned().collect();
     let settings = iteration_settings(scene);
-    let control = match scene.solver.loading {
-        Loading::OneShot => None,
-        Loading::Steps(n) => Some(StepControl::steps(n)),
-        Loading::Auto => Some(StepControl::AUTO),
+    let problem = Problem {
+        model,
+        factors,
+        loads: &loads,
+        laws,
+        sections: &sections,
+        elastic: Some(elastic),
     };
-    let result = match control {
-        None => stress_transfer_from(
-            model,
-            factors,
-            &loads,
-            laws,
-            &sections,
-            &settings,
-            Some(elastic),
-            None,
-            |_| {},
-        ),
-        Some(control) => stress_transfer_stepped(
-            model,
-            factors,
-            &loads,
-            laws,
-            &sections,
-            &settings,
-            control,
-            Some(elastic),
-            None,
-            |_| {},
-            |_, _, _| (),
-        )
-        .map(|s| s.outcome),
-    };
+    let stepping = scene.solver.loading.into();
+    let result = solve(&problem, &settings, None, stepping, |_, _, _| (), |_| {}).map(|s| s.outcome);
     result.map_err(|e| {
         let h = e.history();
         format!(

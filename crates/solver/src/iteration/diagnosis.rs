@@ -1,9 +1,9 @@
 //! Why an iteration stopped: no equilibrium, a joint too stiff for the
 //! iteration, or the iteration limit.
 
-use super::release::Eval;
+use super::eval::Eval;
 use super::setup::Setup;
-use super::{IterationError, IterationRecord, IterationSettings};
+use super::types::{solves, IterationError, IterationRecord, IterationSettings};
 use crate::joint_law::JointState;
 
 /// The end at the iteration limit: `NotConverged`, or `StiffJoint` when the
@@ -34,7 +34,7 @@ pub(super) fn not_converged(
     IterationError::NotConverged {
         last: None,
         iterations: history.len() as u32,
-        solves: super::solves(&history),
+        solves: solves(&history),
         limit: settings.max_iterations,
         ratio,
         epsilon: settings.epsilon,
@@ -58,7 +58,7 @@ fn worst_joint(setup: &Setup, f: &[f64]) -> usize {
     let mut per_joint = vec![0.0f64; setup.model.mesh.joints.len()];
     for (i, info) in setup.points.iter().enumerate() {
         for &j in &setup.local[i] {
-            for s in 0..setup.sections.len() {
+            for s in 0..setup.sections().len() {
                 for c in 0..3 {
                     per_joint[info.joint] += f.get(s * 3 * n_j + 3 * j + c).map_or(0.0, |v| v * v);
                 }
@@ -194,9 +194,9 @@ pub(super) fn no_equilibrium(
 }
 
 /// A converged state whose displacements leave `imbalance` of the load
-/// unbalanced ([`Setup::imbalance`]): no equilibrium (the joints' states
-/// make a mechanism), naming the joint with the most open or sliding
-/// pairs in `ev`.
+/// unbalanced (the sweep's `imbalance`): no equilibrium (the joints'
+/// states make a mechanism), naming the joint with the most open or
+/// sliding pairs in `ev`.
 pub(super) fn unbalanced(
     setup: &Setup,
     ev: &Eval,

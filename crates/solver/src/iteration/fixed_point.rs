@@ -1,9 +1,10 @@
 //! The fixed-point iteration `x <- Psi(x)`: the paper's plain iteration and
 //! Anderson mixing.
 
+use super::attempt::{Converged, Failure, Start};
 use super::diagnosis::{no_equilibrium, not_converged, residual_limit, unresolved};
-use super::setup::Setup;
-use super::{Converged, Failure, IterationRecord, IterationSettings, Start};
+use super::sweep::Sweep;
+use super::types::{IterationRecord, IterationSettings};
 use std::time::Instant;
 
 /// Anderson mixing (type II) of a fixed point `x = Psi(x)` from the
@@ -85,19 +86,20 @@ impl Anderson {
 /// The fixed-point iteration `x <- Psi(x)`, Anderson-mixed over `depth`
 /// iterates (0: the paper's plain iteration), relaxed on cycles.
 pub(super) fn fixed_point(
-    setup: &Setup,
+    sweep: &Sweep,
     depth: usize,
     settings: &IterationSettings,
     from: Start,
     progress: &mut dyn FnMut(&IterationRecord),
 ) -> Result<Converged, Box<Failure>> {
     let start = Instant::now();
+    let setup = sweep.setup;
     // x: the released section forces applied; ev.g: those released by the
     // current solution.
     let mut ev = setup.new_eval();
     let warm = from.psi_ref.is_some();
     let mut x = from.x0;
-    let mut released = setup.zero_loads();
+    let mut released = setup.transfer.zeros();
     let mut history = Vec::new();
     let mut mixer = Anderson::new(depth);
     let mut last_f = Vec::new();
@@ -110,7 +112,7 @@ pub(super) fn fixed_point(
     for it in 1..=settings.max_iterations {
         // (3) analyse x, (1) solve every harmonic for F + A x, (2) synthesize
         // at the sections, evaluate the law, release: g = Psi(x).
-        let u = setup.evaluate(&x, &mut released, &mut ev);
+        let u = sweep.evaluate(&x, &mut released, &mut ev);
 
         // (4) Residual rho = Psi(x) - x per section, and the history.
         let f: Vec<f64> = ev.g.iter().zip(&x).map(|(a, b)| a - b).collect();
@@ -120,7 +122,7 @@ pub(super) fn fixed_point(
         }
         let nothing_released = psi0 <= 1e-14 * load_scale.max(f64::MIN_POSITIVE);
         let ratio = if nothing_released { 0.0 } else { psi / psi0 };
-        let record = setup.record(it, ratio, &ev, start, 1);
+        let record = sweep.record(it, ratio, &ev, start, 1);
         progress(&record);
         history.push(record);
         if !ratio.is_finite() || u.iter().flatten().flatten().any(|v| !v.is_finite()) {

@@ -2,8 +2,9 @@
 //! the traction form (`traction`) implement it; the Newton loop, its
 //! Krylov solver and line search are written once against it.
 
-use super::release::Eval;
-use super::setup::{JointAmplitudes, Setup};
+use super::eval::Eval;
+use super::sweep::Sweep;
+use super::transfer::JointAmplitudes;
 
 /// Halvings of the Newton step before the plain step is taken instead
 /// (lambda >= 1/32: a smaller one means a joint point switches state just
@@ -22,8 +23,8 @@ pub(super) const NEWTON_HALVINGS_STIFF: u32 = 10;
 /// `R(y)` at given displacements (no sweep) and its generalized Jacobian
 /// `J = dR/dy` at the states of the last [`Formulation::linearize`].
 pub(super) trait Formulation {
-    /// The run's data.
-    fn setup(&self) -> &Setup<'_>;
+    /// The run's data at its load state.
+    fn sweep(&self) -> &Sweep<'_, '_>;
     /// Number of unknowns.
     fn len(&self) -> usize;
     /// `x = G y`, the released section forces of y.

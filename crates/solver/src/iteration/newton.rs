@@ -2,15 +2,18 @@
 //! ([`Formulation`]): the released section forces x, `R(x) = Psi(x) - x = 0`
 //! ([`Nodal`]), or, where a joint is assembled softer than its law
 //! (`k h / E > 1`), the released tractions per (section, point)
-//! ([`Traction`](super::traction::Traction)); and its Krylov solver
+//! ([`Traction`]); and its Krylov solver
 //! ([`Krylov`]).
 
+use super::attempt::{Converged, Failure, Start};
 use super::diagnosis::{no_equilibrium, not_converged, unresolved};
+use super::eval::Eval;
 use super::formulation::{Formulation, NEWTON_HALVINGS};
-use super::release::{Eval, Tangent};
-use super::setup::{JointAmplitudes, Setup};
+use super::release::Tangent;
+use super::sweep::Sweep;
 use super::traction::Traction;
-use super::{axpy, dot, norm, Converged, Failure, IterationRecord, IterationSettings, Start};
+use super::transfer::JointAmplitudes;
+use super::types::{IterationError, IterationRecord, IterationSettings};
 use std::collections::VecDeque;
 use std::time::Instant;
 
@@ -31,26 +34,26 @@ const NEWTON_ETA_MAX: f64 = 0.3;
 /// is as good as the harmonic-block preconditioner (measured on Scene P at
 /// k_eta h / E = 0.125 to 1).
 pub(super) struct Nodal<'s, 'a> {
-    setup: &'s Setup<'a>,
+    sweep: Sweep<'s, 'a>,
     tangents: Vec<Tangent>,
 }
 
 impl<'s, 'a> Nodal<'s, 'a> {
-    pub(super) fn new(setup: &'s Setup<'a>) -> Self {
+    pub(super) fn new(sweep: Sweep<'s, 'a>) -> Self {
         Nodal {
-            setup,
-            tangents: vec![None; setup.n_pairs()],
+            sweep,
+            tangents: vec![None; sweep.setup.n_pairs()],
         }
     }
 }
 
 impl Formulation for Nodal<'_, '_> {
-    fn setup(&self) -> &Setup<'_> {
-        self.setup
+    fn sweep(&self) -> &Sweep<'_, '_> {
+        &self.sweep
     }
 
     fn len(&self) -> usize {
-        self.setup.len()
+        self.sweep.setup.len()
     }
 
     fn forces(&self, y: &[f64], x: &mut [f64]) {
@@ -58,7 +61,7 @@ impl Formulation for Nodal<'_, '_> {
     }
 
     fn residual(&self, y: &[f64], ev: &mut Eval, res: &mut [f64]) {
-        self.setup.release_all(ev);
+        self.sweep.release_all(ev);
         for ((r, g), x) in res.iter_mut().zip(&ev.g).zip(y) {
             *r = g - x;
         }
@@ -69,11 +72,11 @@ impl Formulation for Nodal<'_, '_> {
     }
 
     fn linearize(&mut self, _y: &[f64], ev: &Eval) {
-        self.setup.tangents(ev, &mut self.tangents);
+        self.sweep.tangents(ev, &mut self.tangents);
     }
 
     fn apply_j(&self, z: &[f64], wz: &[f64], out: &mut [f64]) {
-        self.setup.apply_tangent(&self.tangents, wz, out);
+        self.sweep.apply_tangent(&self.tangents, wz, out);
         axpy(-1.0, z, out);
     }
 
@@ -219,7 +222,7 @@ impl Krylov {
             }
             let mut w = self.buffer(w_delta.len());
             form.forces(&z, x);
-            form.setup().apply_w(x, released, &mut w);
+            form.sweep().apply_w(x, released, &mut w);
             sweeps += 1;
             self.push(z, w);
             if !self.orthogonalize(form, self.z.len() - 1, &mut r, &mut c) {
@@ -279,102 +282,249 @@ impl Krylov {
 /// released forces outgrow what the residual can resolve ([`unresolved`]),
 /// or when the residual grows past 1e6 Psi_0.
 pub(super) fn newton(
-    setup: &Setup,
+    sweep: &Sweep,
     settings: &IterationSettings,
     from: Start,
     progress: &mut dyn FnMut(&IterationRecord),
 ) -> Result<Converged, Box<Failure>> {
-    if setup.softened() {
-        let mut form = Traction::new(setup);
+    if sweep.setup.softened() {
+        let mut form = Traction::new(*sweep);
         let y0 = form.start(&from);
-        solve(setup, &mut form, y0, settings, from, progress)
+        solve(sweep, &mut form, y0, settings, from, progress)
     } else {
         let y0 = from.x0.clone();
-        solve(setup, &mut Nodal::new(setup), y0, settings, from, progress)
+        solve(sweep, &mut Nodal::new(*sweep), y0, settings, from, progress)
+    }
+}
+
+/// The iterate of [`solve`] and its scratch: the unknowns y, their
+/// evaluation `acc` and residual `res`; the trial iterate of a step; the
+/// Newton direction `delta` and `W G delta`; `x = G y`, `rx = G R`, the
+/// right-hand side, the analysis buffer and the Krylov directions.
+struct Iterate {
+    y: Vec<f64>,
+    acc: Eval,
+    res: Vec<f64>,
+    y_trial: Vec<f64>,
+    trial: Eval,
+    res_trial: Vec<f64>,
+    delta: Vec<f64>,
+    w_delta: Vec<f64>,
+    x: Vec<f64>,
+    rx: Vec<f64>,
+    rhs: Vec<f64>,
+    released: JointAmplitudes,
+    krylov: Krylov,
+}
+
+impl Iterate {
+    /// At `y` (`ny` unknowns), not evaluated yet.
+    fn new(sweep: &Sweep, ny: usize, y: Vec<f64>) -> Self {
+        let setup = sweep.setup;
+        let nx = setup.len();
+        Iterate {
+            y,
+            acc: setup.new_eval(),
+            res: vec![0.0; ny],
+            y_trial: vec![0.0; ny],
+            trial: setup.new_eval(),
+            res_trial: vec![0.0; ny],
+            delta: vec![0.0; ny],
+            w_delta: vec![0.0; nx],
+            x: vec![0.0; nx],
+            rx: vec![0.0; nx],
+            rhs: vec![0.0; ny],
+            released: setup.transfer.zeros(),
+            krylov: Krylov::new(),
+        }
+    }
+
+    /// A true evaluation at y (one sweep).
+    fn evaluate(&mut self, form: &dyn Formulation) {
+        evaluate(
+            form,
+            &self.y,
+            &mut self.released,
+            &mut self.acc,
+            &mut self.res,
+            &mut self.x,
+        );
+    }
+
+    /// (2) Backtracking on `|R|` along `delta` from `|R| = r_norm`, the
+    /// trial evaluations without a sweep; whether a trial was accepted.
+    fn line_search(&mut self, form: &dyn Formulation, r_norm: f64) -> bool {
+        let mut lambda = 1.0;
+        for _ in 0..=form.halvings() {
+            for ((t, a), d) in self.y_trial.iter_mut().zip(&self.y).zip(&self.delta) {
+                *t = a + lambda * d;
+            }
+            for ((t, a), w) in self.trial.u_s.iter_mut().zip(&self.acc.u_s).zip(&self.w_delta) {
+                *t = a + lambda * w;
+            }
+            self.trial.broken.copy_from_slice(&self.acc.broken);
+            form.residual(&self.y_trial, &mut self.trial, &mut self.res_trial);
+            if norm(&self.res_trial) <= (1.0 - 1e-4 * lambda) * r_norm {
+                return true;
+            }
+            lambda *= 0.5;
+        }
+        false
+    }
+
+    /// (3) The plain step `y + R` as the trial, evaluated for real (one
+    /// sweep); its pair is kept.
+    fn plain_step(&mut self, form: &dyn Formulation) {
+        let (nx, ny) = (self.w_delta.len(), self.delta.len());
+        for i in 0..ny {
+            self.y_trial[i] = self.y[i] + self.res[i];
+        }
+        self.trial.broken.copy_from_slice(&self.acc.broken);
+        evaluate(
+            form,
+            &self.y_trial,
+            &mut self.released,
+            &mut self.trial,
+            &mut self.res_trial,
+            &mut self.x,
+        );
+        let mut w = self.krylov.buffer(nx);
+        for ((wi, a), b) in w.iter_mut().zip(&self.trial.u_s).zip(&self.acc.u_s) {
+            *wi = a - b;
+        }
+        let mut z = self.krylov.buffer(ny);
+        z.copy_from_slice(&self.res);
+        self.krylov.push(z, w);
+    }
+
+    /// Takes the trial as the iterate.
+    fn advance(&mut self) {
+        std::mem::swap(&mut self.acc, &mut self.trial);
+        std::mem::swap(&mut self.y, &mut self.y_trial);
+        std::mem::swap(&mut self.res, &mut self.res_trial);
+    }
+
+    /// Stopped with `error` at this iterate.
+    fn fail(self, error: IterationError) -> Box<Failure> {
+        Failure::new(error, self.x, self.acc)
+    }
+
+    /// Converged at this iterate.
+    fn converged(self, history: Vec<IterationRecord>) -> Converged {
+        Converged::new(self.x, self.y, self.acc, history)
+    }
+}
+
+/// A true evaluation of `form` at `y` (one sweep): `ev`, the residual `res`
+/// and `x = G y`.
+fn evaluate(
+    form: &dyn Formulation,
+    y: &[f64],
+    released: &mut JointAmplitudes,
+    ev: &mut Eval,
+    res: &mut [f64],
+    x: &mut [f64],
+) {
+    form.forces(y, x);
+    form.sweep().displace(x, released, &mut ev.u_s);
+    form.residual(y, ev, res);
+}
+
+/// The watch for no equilibrium: the smallest `|R|` so far and where, and
+/// whether each of the last steps fell back to the plain step.
+struct Stall {
+    best: f64,
+    best_at: u32,
+    fallbacks: VecDeque<bool>,
+}
+
+impl Stall {
+    fn new(r_norm: f64) -> Self {
+        Stall {
+            best: r_norm,
+            best_at: 1,
+            fallbacks: VecDeque::new(),
+        }
+    }
+
+    /// Notes whether this step fell back to the plain step.
+    fn fell_back(&mut self, yes: bool) {
+        self.fallbacks.push_back(yes);
+        if self.fallbacks.len() > NEWTON_STALL as usize {
+            self.fallbacks.pop_front();
+        }
+    }
+
+    /// Why step `step` (`|R| = r_norm`, residual ratio `ratio`) shows no
+    /// equilibrium, if it does.
+    fn reason(&mut self, step: u32, r_norm: f64, ratio: f64) -> Option<String> {
+        let reason = if r_norm < 0.99 * self.best {
+            self.best = r_norm;
+            self.best_at = step;
+            None
+        } else if step - self.best_at >= NEWTON_STALL {
+            Some(format!(
+                "the Newton residual stalls at ratio {ratio:.3e} (|R| made no new minimum by 1 % in {NEWTON_STALL} steps, {} of which fell back to the plain step: the joint tangent has (almost) no stiffness left along the unbalanced force, and the step the linearization asks for does not reduce the residual)",
+                self.fallbacks.iter().filter(|&&f| f).count()
+            ))
+        } else {
+            None
+        };
+        reason.or_else(|| (ratio > 1e6).then(|| format!("the residual grows (ratio {ratio:.3e})")))
     }
 }
 
 /// [`newton`] on formulation `form` from `y`.
 fn solve(
-    setup: &Setup,
+    sweep: &Sweep,
     form: &mut dyn Formulation,
-    mut y: Vec<f64>,
+    y: Vec<f64>,
     settings: &IterationSettings,
     from: Start,
     progress: &mut dyn FnMut(&IterationRecord),
 ) -> Result<Converged, Box<Failure>> {
     let start = Instant::now();
-    let (ny, nx) = (form.len(), setup.len());
-    let mut released = setup.zero_loads();
-    let mut acc = setup.new_eval();
-    let mut trial = setup.new_eval();
-    let mut y_trial = vec![0.0; ny];
-    let mut delta = vec![0.0; ny];
-    let mut w_delta = vec![0.0; nx];
-    let mut x = vec![0.0; nx];
-    let mut rx = vec![0.0; nx];
-    let mut krylov = Krylov::new();
-
-    // A true evaluation at y (one sweep); `x` and `rx` hold G y and G R.
-    let evaluate = |form: &dyn Formulation,
-                    y: &[f64],
-                    released: &mut JointAmplitudes,
-                    ev: &mut Eval,
-                    res: &mut [f64],
-                    x: &mut [f64]| {
-        form.forces(y, x);
-        form.setup().displace(x, released, &mut ev.u_s);
-        form.residual(y, ev, res);
-    };
-    let mut res = vec![0.0; ny];
+    let setup = sweep.setup;
+    let mut it = Iterate::new(sweep, form.len(), y);
     // The section displacements at the start, if known (no sweep).
-    let known = from.u_s.as_ref().filter(|u| u.len() == acc.u_s.len());
+    let known = from.u_s.as_ref().filter(|u| u.len() == it.acc.u_s.len());
     let first_solves = match known {
         Some(u) => {
-            form.forces(&y, &mut x);
-            acc.u_s.copy_from_slice(u);
-            form.residual(&y, &mut acc, &mut res);
+            form.forces(&it.y, &mut it.x);
+            it.acc.u_s.copy_from_slice(u);
+            form.residual(&it.y, &mut it.acc, &mut it.res);
             0
         }
         None => {
-            evaluate(form, &y, &mut released, &mut acc, &mut res, &mut x);
+            it.evaluate(form);
             1
         }
     };
-    // Whether `acc` is a true evaluation at y (not a linearized trial).
-    let mut evaluated;
-    let mut res_trial = vec![0.0; ny];
-    let mut rhs = vec![0.0; ny];
-    form.section_residual(&res, &mut rx);
-    let psi_first = setup.section_max(&rx);
+    form.section_residual(&it.res, &mut it.rx);
+    let psi_first = setup.section_max(&it.rx);
     let psi0 = from.psi_ref.unwrap_or(psi_first);
     let nothing_released = psi0 <= 1e-14 * setup.load_scale().max(f64::MIN_POSITIVE);
     let first_ratio = if nothing_released { 0.0 } else { psi_first / psi0 };
-    let record = setup.record(1, first_ratio, &acc, start, first_solves);
+    let record = sweep.record(1, first_ratio, &it.acc, start, first_solves);
     progress(&record);
     let mut history = vec![record];
     if !psi_first.is_finite() {
-        return Err(Failure::new(
-            no_equilibrium(setup, &rx, "the solution is not finite", record, history),
-            x,
-            acc,
-        ));
+        let e = no_equilibrium(setup, &it.rx, "the solution is not finite", record, history);
+        return Err(it.fail(e));
     }
     if nothing_released || (from.psi_ref.is_some() && first_ratio < settings.epsilon) {
-        return Ok(Converged::new(x, y, acc, history));
+        return Ok(it.converged(history));
     }
 
     let mut total = first_solves;
-    let mut r_norm = norm(&res);
+    let mut r_norm = norm(&it.res);
     let (mut r_prev, mut eta) = (r_norm, 0.5f64);
-    let (mut best, mut best_at) = (r_norm, 1u32);
+    let mut stall = Stall::new(r_norm);
     let eta_floor = 0.5 * settings.epsilon * psi0;
-    // Whether each of the last steps fell back to the plain step.
-    let mut fallbacks = VecDeque::new();
     for step in 2..=settings.max_iterations {
         // (1) The Newton direction at y.
-        rhs.copy_from_slice(&res);
-        form.linearize(&y, &acc);
+        it.rhs.copy_from_slice(&it.res);
+        form.linearize(&it.y, &it.acc);
         if step > 2 {
             let ew = 0.9 * (r_norm / r_prev).powi(2);
             let safe = 0.9 * eta * eta;
@@ -382,122 +532,79 @@ fn solve(
         }
         eta = eta.clamp(NEWTON_ETA_MIN, NEWTON_ETA_MAX).max(eta_floor / r_norm);
         let budget = settings.max_iterations.saturating_sub(total + 1);
-        let mut sweeps = krylov.solve(
+        let mut sweeps = it.krylov.solve(
             form,
-            &rhs,
+            &it.rhs,
             eta,
             budget,
-            &mut released,
-            &mut x,
-            &mut delta,
-            &mut w_delta,
+            &mut it.released,
+            &mut it.x,
+            &mut it.delta,
+            &mut it.w_delta,
         );
 
-        // (2) Backtracking on |R|, the trial evaluations without a sweep.
-        let mut lambda = 1.0;
-        let mut accepted = false;
-        for _ in 0..=form.halvings() {
-            for ((t, a), d) in y_trial.iter_mut().zip(&y).zip(&delta) {
-                *t = a + lambda * d;
-            }
-            for ((t, a), w) in trial.u_s.iter_mut().zip(&acc.u_s).zip(&w_delta) {
-                *t = a + lambda * w;
-            }
-            trial.broken.copy_from_slice(&acc.broken);
-            form.residual(&y_trial, &mut trial, &mut res_trial);
-            if norm(&res_trial) <= (1.0 - 1e-4 * lambda) * r_norm {
-                accepted = true;
-                break;
-            }
-            lambda *= 0.5;
-        }
-        fallbacks.push_back(!accepted);
-        if fallbacks.len() > NEWTON_STALL as usize {
-            fallbacks.pop_front();
-        }
-        if accepted {
-            evaluated = false;
-        } else {
-            // (3) The plain step, evaluated for real; its pair is kept.
-            for i in 0..ny {
-                y_trial[i] = y[i] + res[i];
-            }
-            trial.broken.copy_from_slice(&acc.broken);
-            evaluate(form, &y_trial, &mut released, &mut trial, &mut res_trial, &mut x);
-            evaluated = true;
+        // (2) Backtracking, else (3) the plain step.
+        let accepted = it.line_search(form, r_norm);
+        stall.fell_back(!accepted);
+        let mut evaluated = !accepted;
+        if !accepted {
+            it.plain_step(form);
             sweeps += 1;
-            let mut w = krylov.buffer(nx);
-            for ((wi, a), b) in w.iter_mut().zip(&trial.u_s).zip(&acc.u_s) {
-                *wi = a - b;
-            }
-            let mut z = krylov.buffer(ny);
-            z.copy_from_slice(&res);
-            krylov.push(z, w);
         }
-        std::mem::swap(&mut acc, &mut trial);
-        std::mem::swap(&mut y, &mut y_trial);
-        std::mem::swap(&mut res, &mut res_trial);
+        it.advance();
         r_prev = r_norm;
-        r_norm = norm(&res);
-        form.section_residual(&res, &mut rx);
-        let mut ratio = setup.section_max(&rx) / psi0;
+        r_norm = norm(&it.res);
+        form.section_residual(&it.res, &mut it.rx);
+        let mut ratio = setup.section_max(&it.rx) / psi0;
         if ratio < settings.epsilon && !evaluated {
             // Confirm with a true evaluation.
-            evaluate(form, &y, &mut released, &mut acc, &mut res, &mut x);
+            it.evaluate(form);
             evaluated = true;
             sweeps += 1;
-            r_norm = norm(&res);
-            form.section_residual(&res, &mut rx);
-            ratio = setup.section_max(&rx) / psi0;
+            r_norm = norm(&it.res);
+            form.section_residual(&it.res, &mut it.rx);
+            ratio = setup.section_max(&it.rx) / psi0;
         }
         total += sweeps;
-        let record = setup.record(step, ratio, &acc, start, sweeps);
+        let record = sweep.record(step, ratio, &it.acc, start, sweeps);
         progress(&record);
         history.push(record);
-        form.forces(&y, &mut x);
+        form.forces(&it.y, &mut it.x);
         if !ratio.is_finite() || !r_norm.is_finite() {
-            return Err(Failure::new(
-                no_equilibrium(setup, &rx, "the solution is not finite", record, history),
-                x,
-                acc,
-            ));
+            let e = no_equilibrium(setup, &it.rx, "the solution is not finite", record, history);
+            return Err(it.fail(e));
         }
-        if let Some(reason) = unresolved(setup, &x, psi0, settings.epsilon) {
-            return Err(Failure::new(
-                no_equilibrium(setup, &rx, &reason, record, history),
-                x,
-                acc,
-            ));
+        if let Some(reason) = unresolved(setup, &it.x, psi0, settings.epsilon) {
+            let e = no_equilibrium(setup, &it.rx, &reason, record, history);
+            return Err(it.fail(e));
         }
         if ratio < settings.epsilon && evaluated {
-            return Ok(Converged::new(x, y, acc, history));
+            return Ok(it.converged(history));
         }
-
         // No equilibrium.
-        let reason = if r_norm < 0.99 * best {
-            best = r_norm;
-            best_at = step;
-            None
-        } else if step - best_at >= NEWTON_STALL {
-            Some(format!(
-                "the Newton residual stalls at ratio {ratio:.3e} (|R| made no new minimum by 1 % in {NEWTON_STALL} steps, {} of which fell back to the plain step: the joint tangent has (almost) no stiffness left along the unbalanced force, and the step the linearization asks for does not reduce the residual)",
-                fallbacks.iter().filter(|&&f| f).count()
-            ))
-        } else {
-            None
-        };
-        let reason =
-            reason.or_else(|| (ratio > 1e6).then(|| format!("the residual grows (ratio {ratio:.3e})")));
-        if let Some(reason) = reason {
-            return Err(Failure::new(
-                no_equilibrium(setup, &rx, &reason, record, history),
-                x,
-                acc,
-            ));
+        if let Some(reason) = stall.reason(step, r_norm, ratio) {
+            let e = no_equilibrium(setup, &it.rx, &reason, record, history);
+            return Err(it.fail(e));
         }
         if total >= settings.max_iterations {
             break;
         }
     }
-    Err(Failure::new(not_converged(setup, &rx, settings, history), x, acc))
+    let e = not_converged(setup, &it.rx, settings, history);
+    Err(it.fail(e))
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+fn norm(a: &[f64]) -> f64 {
+    dot(a, a).sqrt()
+}
+
+/// `y += alpha x`.
+fn axpy(alpha: f64, x: &[f64], y: &mut [f64]) {
+    for (yi, xi) in y.iter_mut().zip(x) {
+        *yi += alpha * xi;
+    }
 }

@@ -45,7 +45,8 @@
 
 use super::interface::Interface;
 use super::release::Tangent;
-use super::setup::{JointAmplitudes, Setup};
+use super::setup::Setup;
+use super::transfer::JointAmplitudes;
 use crate::elements::{add_traction_forces, relative_displacement};
 use crate::fourier::Family;
 use faer::linalg::solvers::{PartialPivLu, Solve};
@@ -164,8 +165,9 @@ impl Interface {
             b.push(bi);
             g.push(gi);
         }
-        let members: Vec<(usize, usize)> = (0..setup.n_h)
-            .flat_map(|h| (0..if setup.both[h] { 2 } else { 1 }).map(move |f| (h, f)))
+        let both = &setup.transfer.both;
+        let members: Vec<(usize, usize)> = (0..setup.transfer.n_h)
+            .flat_map(|h| (0..if both[h] { 2 } else { 1 }).map(move |f| (h, f)))
             .collect();
         let groups = if members.len() * nr <= COUPLED_MAX {
             vec![members]
@@ -203,7 +205,7 @@ impl BlockPreconditioner {
     /// `I - D_r Z_r` of every group at the joint tangents `tangents`.
     pub(super) fn update(&mut self, setup: &Setup, tangents: &[Tangent]) {
         let n_p = setup.points.len();
-        let sections = setup.sections;
+        let sections = setup.sections();
         const FAMILIES: [Family; 2] = [Family::Symmetric, Family::Antisymmetric];
         let fixed = &*self.fixed;
         let nr = 3 * fixed.pairs.len();
@@ -220,7 +222,7 @@ impl BlockPreconditioner {
                         group
                             .iter()
                             .map(|&(h, f)| {
-                                let (a, b) = setup.phi(s, h, FAMILIES[f]);
+                                let (a, b) = setup.transfer.phi(s, h, FAMILIES[f]);
                                 [a, a, b]
                             })
                             .collect()
@@ -303,9 +305,9 @@ impl BlockPreconditioner {
     ) {
         let fixed = &*self.fixed;
         let nr = 3 * fixed.pairs.len();
-        setup.analyse(r, released);
+        setup.transfer.analyse(r, released);
         for (h, fams) in released.iter_mut().enumerate() {
-            if !setup.both[h] {
+            if !setup.transfer.both[h] {
                 fams[1].fill(0.0);
             }
         }
@@ -335,6 +337,6 @@ impl BlockPreconditioner {
                 released[h][f].copy_from_slice(y[i].as_slice());
             }
         }
-        setup.synthesize_all(released, u_s);
+        setup.transfer.synthesize(released, u_s);
     }
 }

@@ -1,11 +1,13 @@
 //! The fixed-point map of a run and the traction form's residual, for tests
 //! and diagnostics ([`FixedPoint`]): the same evaluations the iteration uses.
 
+use super::eval::Eval;
 use super::formulation::Formulation;
-use super::release::Eval;
 use super::setup::Setup;
+use super::state::LoadState;
+use super::sweep::Sweep;
 use super::traction::Traction;
-use super::IterationError;
+use super::types::{IterationError, Problem};
 use crate::fourier::Sections;
 use crate::joint_law::JointState;
 use crate::linear::{HarmonicFactor, Model};
@@ -28,9 +30,22 @@ impl<'a> FixedPoint<'a> {
         laws: &'a [JointLaw],
         sections: &'a Sections,
     ) -> Result<Self, IterationError> {
+        let problem = Problem {
+            model,
+            factors,
+            loads,
+            laws,
+            sections,
+            elastic: None,
+        };
         Ok(FixedPoint {
-            setup: Setup::new(model, factors, loads, laws, sections, None, None)?,
+            setup: Setup::new(&problem, None)?,
         })
+    }
+
+    /// The whole load under the paper's law.
+    fn sweep(&self) -> Sweep<'_, 'a> {
+        Sweep::new(&self.setup, LoadState::WHOLE)
     }
 
     /// Length of x: sections x joint nodes x 3 (index `(s * n_j + j) * 3 + c`).
@@ -46,9 +61,9 @@ impl<'a> FixedPoint<'a> {
     /// `Psi(x)` and the state of every (section, point) (index
     /// `s * n_points + p`), with no point broken before (one sweep).
     pub fn psi(&self, x: &[f64]) -> (Vec<f64>, Vec<JointState>) {
-        let mut released = self.setup.zero_loads();
+        let mut released = self.setup.transfer.zeros();
         let mut ev = self.setup.new_eval();
-        self.setup.evaluate(x, &mut released, &mut ev);
+        self.sweep().evaluate(x, &mut released, &mut ev);
         (ev.g, ev.state)
     }
 
@@ -70,13 +85,13 @@ impl<'a> FixedPoint<'a> {
     pub fn traction_jacobian_vector(&self, tau: &[f64], v: &[f64]) -> Vec<f64> {
         let s = &self.setup;
         let (_, ev) = self.traction_eval(tau);
-        let mut form = Traction::new(s);
+        let mut form = Traction::new(self.sweep());
         form.linearize(tau, &ev);
-        let mut released = s.zero_loads();
+        let mut released = s.transfer.zeros();
         let mut x = vec![0.0; s.len()];
         form.forces(v, &mut x);
         let mut w = vec![0.0; s.len()];
-        s.apply_w(&x, &mut released, &mut w);
+        self.sweep().apply_w(&x, &mut released, &mut w);
         let mut out = vec![0.0; v.len()];
         form.apply_j(v, &w, &mut out);
         out
@@ -84,12 +99,12 @@ impl<'a> FixedPoint<'a> {
 
     fn traction_eval(&self, tau: &[f64]) -> (Vec<f64>, Eval) {
         let s = &self.setup;
-        let form = Traction::new(s);
-        let mut released = s.zero_loads();
+        let form = Traction::new(self.sweep());
+        let mut released = s.transfer.zeros();
         let mut ev = s.new_eval();
         let mut x = vec![0.0; s.len()];
         form.forces(tau, &mut x);
-        s.displace(&x, &mut released, &mut ev.u_s);
+        self.sweep().displace(&x, &mut released, &mut ev.u_s);
         let mut f = vec![0.0; tau.len()];
         form.residual(tau, &mut ev, &mut f);
         (f, ev)
@@ -98,16 +113,16 @@ impl<'a> FixedPoint<'a> {
     /// `J v = Psi'(x) v - v`, the generalized Jacobian of `R = Psi - x` with
     /// the joint tangent at the states of x (two sweeps: `Psi(x)`, `W v`).
     pub fn jacobian_vector(&self, x: &[f64], v: &[f64]) -> Vec<f64> {
-        let s = &self.setup;
-        let mut released = s.zero_loads();
+        let (s, sweep) = (&self.setup, self.sweep());
+        let mut released = s.transfer.zeros();
         let mut ev = s.new_eval();
-        s.evaluate(x, &mut released, &mut ev);
+        sweep.evaluate(x, &mut released, &mut ev);
         let mut tangents = vec![None; s.n_pairs()];
-        s.tangents(&ev, &mut tangents);
+        sweep.tangents(&ev, &mut tangents);
         let mut w = vec![0.0; s.len()];
-        s.apply_w(v, &mut released, &mut w);
+        sweep.apply_w(v, &mut released, &mut w);
         let mut out = vec![0.0; s.len()];
-        s.apply_tangent(&tangents, &w, &mut out);
+        sweep.apply_tangent(&tangents, &w, &mut out);
         for (o, vi) in out.iter_mut().zip(v) {
             *o -= vi;
         }

@@ -1,74 +1,17 @@
-//! The joint law at the sections: the released forces of one evaluation
-//! ([`Eval`]) and the joint tangent of the release ([`release_tangent`]).
+//! The release: the joint law at the sections on a sweep's displacements
+//! (`impl Sweep`: one evaluation of `Psi`, the released forces and the
+//! joint field, [`Sweep::evaluate`]) and the joint tangent of the release
+//! ([`release_tangent`]); the reference `Psi_0` ([`reference_release`]).
 
+use super::eval::{Eval, SectionEval};
 use super::setup::Setup;
-use crate::elements::{add_traction_forces, relative_displacement, JointSprings};
+use super::state::{LoadState, Release};
+use super::sweep::Sweep;
+use super::transfer::JointAmplitudes;
+use crate::elements::JointSprings;
 use crate::joint_law::{admissible_trial, history_response, JointState, PointHistory};
 use crate::scene::{JointLaw, ShearCheck};
 use rayon::prelude::*;
-
-/// One evaluation of `Psi`: the joint-node displacements at the sections
-/// `u_s`, the released section forces `g = Psi(x)`, and the joint field
-/// (index `s * n_points + p`) with the tensile-break memory after it.
-#[derive(Clone)]
-pub(super) struct Eval {
-    pub(super) u_s: Vec<f64>,
-    pub(super) g: Vec<f64>,
-    pub(super) d: Vec<[f64; 3]>,
-    pub(super) p: Vec<[f64; 3]>,
-    pub(super) state: Vec<JointState>,
-    pub(super) broken: Vec<bool>,
-}
-
-/// The writable fields of one section of an [`Eval`] (its points in
-/// order).
-pub(super) struct SectionEval<'e> {
-    pub(super) g: &'e mut [f64],
-    pub(super) d: &'e mut [[f64; 3]],
-    pub(super) p: &'e mut [[f64; 3]],
-    pub(super) state: &'e mut [JointState],
-    pub(super) broken: &'e mut [bool],
-}
-
-impl Eval {
-    /// `u_s`, and the writable fields section by section in parallel
-    /// (`m` joint-node values and `n_p` points a section, at least
-    /// `min_len` sections a thread).
-    pub(super) fn sections_mut(
-        &mut self,
-        m: usize,
-        n_p: usize,
-        min_len: usize,
-    ) -> (
-        &[f64],
-        impl IndexedParallelIterator<Item = (usize, SectionEval<'_>)>,
-    ) {
-        let Eval {
-            u_s,
-            g,
-            d,
-            p,
-            state,
-            broken,
-        } = self;
-        let sections = g
-            .par_chunks_mut(m)
-            .with_min_len(min_len)
-            .zip(d.par_chunks_mut(n_p))
-            .zip(p.par_chunks_mut(n_p))
-            .zip(state.par_chunks_mut(n_p))
-            .zip(broken.par_chunks_mut(n_p))
-            .map(|((((g, d), p), state), broken)| SectionEval {
-                g,
-                d,
-                p,
-                state,
-                broken,
-            })
-            .enumerate();
-        (u_s, sections)
-    }
-}
 
 /// The joint tangent at one (section, point): the derivative of the
 /// released traction `k d - P(k d)` with respect to the trial traction
@@ -76,7 +19,7 @@ impl Eval {
 pub(super) type Tangent = crate::joint_law::ReleaseTangent;
 
 /// The derivative of the released traction `e(t) = t - P(t)` of
-/// [`admissible`] (t the trial traction `k d`) at the state it gave:
+/// [`admissible`](crate::joint_law::admissible) (t the trial traction `k d`) at the state it gave:
 ///
 /// - stick: `de = 0`;
 /// - open: `de = dt` (the whole trial traction is released);
@@ -173,44 +116,41 @@ fn reference_tangent(law: Tangent, k: &JointSprings, k_a: &JointSprings) -> Tang
     Some(out)
 }
 
-impl Setup<'_> {
-    /// The relative displacement at point `i` from the joint-node values
-    /// `u` of one section.
-    pub(super) fn relative(&self, i: usize, u: &[f64]) -> [f64; 3] {
-        let nl = &self.local[i];
-        let mut ue = [0.0; 18];
-        for (a, &j) in nl.iter().enumerate() {
-            ue[3 * a..3 * a + 3].copy_from_slice(&u[3 * j..3 * j + 3]);
-        }
-        relative_displacement(&self.points[i].point, &ue[..3 * nl.len()])
-    }
-
-    /// Adds the nodal forces of traction `t` at point `i` to the joint-node
-    /// forces `out` of one section (`fe`: scratch).
-    pub(super) fn scatter(&self, i: usize, t: [f64; 3], fe: &mut [f64; 18], out: &mut [f64]) {
-        if t == [0.0; 3] {
-            return;
-        }
-        let nl = &self.local[i];
-        let fe = &mut fe[..3 * nl.len()];
-        fe.fill(0.0);
-        add_traction_forces(&self.points[i].point, t, 1.0, fe);
-        for (a, &j) in nl.iter().enumerate() {
-            for c in 0..3 {
-                out[3 * j + c] += fe[3 * a + c];
-            }
-        }
-    }
-
-    /// The opening rate `rho` of the history law for a trial traction of
-    /// the springs `k` at a point of `joint`: its opening spring over `k_eta`.
-    pub(super) fn opening_rate(&self, joint: usize, k: &JointSprings) -> f64 {
-        let opening = self.model.joints[joint].opening;
-        if k.k_eta > 0.0 && opening > 0.0 {
-            opening / k.k_eta
+/// The reference `Psi_0` of a stepped run: the paper's Eq. 12, the
+/// largest released section force of the elastic solution of the whole
+/// load under the paper's law. Where a stiff joint is assembled softer,
+/// its release carries the stiff spring (`k / k_ref` times the forces,
+/// or nothing at all for a law that never yields), so the reference is
+/// instead the largest section force the joints carry in the elastic
+/// solution of the model as assembled (one sweep).
+pub(super) fn reference_release(setup: &Setup) -> f64 {
+    let state = LoadState {
+        release: if setup.softened() {
+            Release::Carried
         } else {
-            1.0
-        }
+            Release::Excess
+        },
+        ..LoadState::WHOLE
+    };
+    let mut released = setup.transfer.zeros();
+    let mut ev = setup.new_eval();
+    Sweep::new(setup, state).evaluate(&vec![0.0; setup.len()], &mut released, &mut ev);
+    setup.section_max(&ev.g)
+}
+
+impl Sweep<'_, '_> {
+    /// `Psi(x)` (one sweep): solve for `lambda F + A x`, synthesize,
+    /// release. The break memory `ev.broken` is carried forward. Returns
+    /// the joint-node amplitudes.
+    pub(super) fn evaluate(
+        &self,
+        x: &[f64],
+        released: &mut JointAmplitudes,
+        ev: &mut Eval,
+    ) -> JointAmplitudes {
+        let u = self.displace(x, released, &mut ev.u_s);
+        self.release_all(ev);
+        u
     }
 
     /// The admissible traction and state of pair `k` (point `i`) at trial
@@ -224,11 +164,11 @@ impl Setup<'_> {
         springs: &JointSprings,
         broken: &mut bool,
     ) -> ([f64; 3], JointState) {
-        let joint = self.points[i].joint;
-        let law = &self.laws[joint];
-        match self.history.as_ref().and_then(|h| h.get(k)) {
+        let joint = self.setup.points[i].joint;
+        let law = &self.setup.laws[joint];
+        match self.state.history_of(k) {
             Some(h) => {
-                let r = history_response(law, t, h, self.opening_rate(joint, springs));
+                let r = history_response(law, t, h, self.setup.opening_rate(joint, springs));
                 (r.traction, r.state)
             }
             None => admissible_trial(law, t, broken),
@@ -239,26 +179,26 @@ impl Setup<'_> {
     /// displacements `u_s`: the released joint-node forces (per radian)
     /// into `out.g`, and the field values.
     fn release(&self, s: usize, u_s: &[f64], out: SectionEval) {
-        let n_p = self.points.len();
+        let setup = self.setup;
+        let n_p = setup.points.len();
         out.g.fill(0.0);
         let mut fe = [0.0; 18];
-        for (i, info) in self.points.iter().enumerate() {
+        for (i, info) in setup.points.iter().enumerate() {
             let k = s * n_p + i;
-            let joint = &self.model.joints[info.joint];
-            let d = self.relative(i, u_s);
-            let t0 = self.t0(k);
-            let h = self.history.as_ref().and_then(|h| h.get(k));
-            let t = self.trial(info.joint, d, h, t0);
+            let joint = &setup.model.joints[info.joint];
+            let d = setup.relative(i, u_s);
+            let t0 = setup.t0(k);
+            let h = self.state.history_of(k);
+            let t = setup.trial(info.joint, d, h, t0);
             let (p, state) = self.admissible((k, i), t, &joint.springs, &mut out.broken[i]);
             // Released: what K_m's spring and the initial traction carry
             // minus what the law allows.
             let trial = joint.assembled.traction(d);
-            let excess = if self.reference_law {
-                trial
-            } else {
-                [0, 1, 2].map(|c| trial[c] + t0[c] - p[c])
+            let excess = match self.state.release {
+                Release::Excess => [0, 1, 2].map(|c| trial[c] + t0[c] - p[c]),
+                Release::Carried => trial,
             };
-            self.scatter(i, excess, &mut fe, out.g);
+            setup.scatter(i, excess, &mut fe, out.g);
             out.d[i] = d;
             out.p[i] = p;
             out.state[i] = state;
@@ -268,31 +208,33 @@ impl Setup<'_> {
     /// The release at every section from `ev.u_s`: `ev.g = release(u_s)`,
     /// the field and the break memory (updated in place).
     pub(super) fn release_all(&self, ev: &mut Eval) {
-        let m = self.per_section();
-        let (u_s, sections) = ev.sections_mut(m, self.points.len().max(1), self.min_len());
+        let setup = self.setup;
+        let m = setup.per_section();
+        let (u_s, sections) = ev.sections_mut(m, setup.points.len().max(1), setup.min_len());
         sections.for_each(|(s, out)| self.release(s, &u_s[s * m..(s + 1) * m], out));
     }
 
     /// The joint tangent of every (section, point) at the states of `ev`.
     pub(super) fn tangents(&self, ev: &Eval, out: &mut [Tangent]) {
-        let n_p = self.points.len().max(1);
+        let setup = self.setup;
+        let n_p = setup.points.len().max(1);
         out.par_chunks_mut(n_p)
-            .with_min_len(self.min_len())
+            .with_min_len(setup.min_len())
             .enumerate()
             .for_each(|(s, ts)| {
-                for (i, (t, info)) in ts.iter_mut().zip(&self.points).enumerate() {
-                    let k = s * self.points.len() + i;
-                    let joint = &self.model.joints[info.joint];
+                for (i, (t, info)) in ts.iter_mut().zip(&setup.points).enumerate() {
+                    let k = s * setup.points.len() + i;
+                    let joint = &setup.model.joints[info.joint];
                     let springs = joint.springs;
-                    let law = &self.laws[info.joint];
-                    let h = self.history.as_ref().and_then(|h| h.get(k));
-                    let trial = self.trial(info.joint, ev.d[k], h, self.t0(k));
+                    let law = &setup.laws[info.joint];
+                    let h = self.state.history_of(k);
+                    let trial = setup.trial(info.joint, ev.d[k], h, setup.t0(k));
                     let law_tangent = law_tangent(
                         law,
                         h,
                         trial,
                         ev.state[k],
-                        self.opening_rate(info.joint, &springs),
+                        setup.opening_rate(info.joint, &springs),
                     );
                     *t = reference_tangent(law_tangent, &springs, &joint.assembled);
                 }
@@ -302,23 +244,24 @@ impl Setup<'_> {
     /// `out = D du_s`: the released section forces of the displacement
     /// increment `du_s` through the joint tangents (no solve).
     pub(super) fn apply_tangent(&self, tangents: &[Tangent], du_s: &[f64], out: &mut [f64]) {
-        let m = self.per_section();
-        let n_p = self.points.len();
+        let setup = self.setup;
+        let m = setup.per_section();
+        let n_p = setup.points.len();
         out.par_chunks_mut(m)
-            .with_min_len(self.min_len())
+            .with_min_len(setup.min_len())
             .enumerate()
             .for_each(|(s, os)| {
                 os.fill(0.0);
                 let du = &du_s[s * m..(s + 1) * m];
                 let mut fe = [0.0; 18];
-                for (i, info) in self.points.iter().enumerate() {
+                for (i, info) in setup.points.iter().enumerate() {
                     let Some(t) = tangents[s * n_p + i] else {
                         continue;
                     };
-                    let springs: JointSprings = self.model.joints[info.joint].assembled;
-                    let dt = springs.traction(self.relative(i, du));
+                    let springs: JointSprings = setup.model.joints[info.joint].assembled;
+                    let dt = springs.traction(setup.relative(i, du));
                     let de = [0, 1, 2].map(|r| t[r][0] * dt[0] + t[r][1] * dt[1] + t[r][2] * dt[2]);
-                    self.scatter(i, de, &mut fe, os);
+                    setup.scatter(i, de, &mut fe, os);
                 }
             });
     }

@@ -31,21 +31,20 @@
 //! converged the rest of the way.
 //!
 //! The residual ratio of every step is relative to the same reference
-//! ([`Setup::reference_release`]: the released forces of the elastic
+//! ([`reference_release`]: the released forces of the elastic
 //! solution of the whole load under the paper's law, the `Psi_0` of a
 //! one-shot run), so a step is converged to the same absolute accuracy
 //! whatever its size.
 
+use super::attempt::{Converged, Start};
 use super::diagnosis::unbalanced;
-use super::setup::{Setup, IMBALANCE_TOL};
-use super::{
-    fixed_point::fixed_point, newton::newton, solves, Converged, IterationError, IterationRecord,
-    IterationSettings, Method, Outcome, Start,
-};
-use crate::fourier::Sections;
+use super::method;
+use super::release::reference_release;
+use super::setup::Setup;
+use super::state::LoadState;
+use super::sweep::{Sweep, IMBALANCE_TOL};
+use super::types::{solves, IterationError, IterationRecord, IterationSettings, JointField, Outcome};
 use crate::joint_law::{commit, exceeds_tensile_strength, state_counts, PointHistory};
-use crate::linear::{HarmonicFactor, Model};
-use crate::loads::HarmonicLoads;
 use crate::scene::JointLaw;
 use crate::solution::Displacements;
 use serde::{Deserialize, Serialize};
@@ -152,61 +151,43 @@ pub struct LimitLoad {
     pub beyond_capacity: bool,
 }
 
-/// A stepped solution.
+/// The load path of a stepped run.
 #[derive(Clone, Debug)]
 pub struct Stepped<T> {
-    /// The solution at the last converged load factor (the whole load if
-    /// `limit` is `None`); its history is that step's.
-    pub outcome: Outcome,
     /// The converged steps.
     pub steps: Vec<LoadStep<T>>,
     /// Set when the whole load could not be reached.
     pub limit: Option<LimitLoad>,
 }
 
-/// Solves `loads` by proportional loading with the history law. `observe`
-/// sees the displacements and joint field of every converged step: the
-/// displacements of harmonics 0..=[`super::OBSERVED_UP_TO`] (the others are
+/// Solves the problem of `setup` by proportional loading with the history
+/// law: the solution at the last converged load factor (the whole load if
+/// the path has no limit; its history is that step's) and the path.
+/// `observe` sees the displacements and joint field of every converged
+/// step: the displacements of harmonics
+/// 0..=[`OBSERVED_UP_TO`](super::sweep::OBSERVED_UP_TO) (the others are
 /// absent), and of every harmonic at the step that reaches the whole load.
-#[allow(clippy::too_many_arguments)]
-pub fn stress_transfer_stepped<T>(
-    model: &Model,
-    factors: &[HarmonicFactor],
-    loads: &[HarmonicLoads],
-    laws: &[JointLaw],
-    sections: &Sections,
-    settings: &IterationSettings,
+pub(super) fn stepped<T>(
+    setup: &Setup,
     control: StepControl,
-    elastic: Option<&Displacements>,
-    start: Option<&super::JointStart>,
-    mut progress: impl FnMut(&IterationRecord),
-    mut observe: impl FnMut(f64, &Displacements, &super::JointField) -> T,
-) -> Result<Stepped<T>, IterationError> {
-    let mut setup = Setup::new(model, factors, loads, laws, sections, elastic, start)?;
-    let n_pairs = setup.n_pairs();
-    let nx = setup.len();
-
+    settings: &IterationSettings,
+    progress: &mut dyn FnMut(&IterationRecord),
+    mut observe: impl FnMut(f64, &Displacements, &JointField) -> T,
+) -> Result<(Outcome, Stepped<T>), IterationError> {
     // The reference Psi_0: the paper-law release of the elastic solution.
-    let psi_ref = setup.reference_release();
-
-    let mut committed: Vec<PointHistory> = (0..n_pairs)
-        .map(|k| PointHistory {
-            debonded: setup.start.debonded.get(k).copied().unwrap_or(false),
-            ..PointHistory::default()
-        })
-        .collect();
-    let mut x_c = vec![0.0; nx];
-    let mut lam_c = 0.0f64;
-    // The last converged step, and its displacements if they hold every harmonic.
-    let mut last: Option<(Converged, Option<Displacements>)> = None;
-    let mut steps: Vec<LoadStep<T>> = Vec::new();
+    let mut run = Run {
+        setup,
+        psi_ref: reference_release(setup),
+        progress,
+    };
+    let mut path = Path::new(setup);
     let mut delta = control.first.clamp(MIN_INCREMENT, 1.0);
     let mut failed_at: Option<f64> = None;
-    let (mut cutbacks, mut spent) = (0u32, 0u32);
     let mut reuse: Option<Accepted> = None;
     // Whether this attempt is the retry with the larger budget.
     let mut classify = false;
     let limit = loop {
+        let lam_c = path.lam_c;
         // Within rounding of the whole load: the whole load (N steps of 1 / N
         // add up to 1 - 1e-16, and a step of that size is noise).
         let target = if lam_c + delta >= 1.0 - 1e-9 {
@@ -221,17 +202,17 @@ pub fn stress_transfer_stepped<T>(
             max_iterations: settings.max_iterations.saturating_mul(CLASSIFY_BUDGET),
             ..*settings
         };
-        let attempt = take_step(
-            &mut setup,
-            &committed,
-            last.as_ref().map(|(c, _)| c),
+        let base = Base {
+            history: &path.committed,
+            conv: path.last.as_ref().map(|(c, _)| c),
+        };
+        let attempt = run.take_step(
+            base,
             (lam_c, target),
             control.check_path && target - lam_c > PATH_MIN,
             solved,
-            psi_ref,
             if classify { &budget } else { settings },
-            &mut progress,
-            &mut spent,
+            &mut path.spent,
         );
         let retried = std::mem::take(&mut classify);
         let failure = match attempt {
@@ -241,48 +222,8 @@ pub fn stress_transfer_stepped<T>(
                 None
             }
             Ok(Taken::Steps(accepted)) => {
-                let mut easy = true;
-                let mut failed = None;
-                for (target, conv, rounds, hist) in accepted {
-                    // Every harmonic at the whole load (the outcome's), the
-                    // loaded faces' ones before.
-                    setup.lambda = target;
-                    let displacements = if target >= 1.0 {
-                        setup.full_displacements(&conv.x)
-                    } else {
-                        setup.observed_displacements(&conv.x)
-                    };
-                    // A converged residual is not yet an equilibrium.
-                    let imbalance = setup.imbalance(&conv.x, &displacements);
-                    if imbalance > IMBALANCE_TOL {
-                        setup.lambda = lam_c;
-                        let e = unbalanced(&setup, &conv.ev, imbalance, conv.history);
-                        failed = Some((target, e));
-                        break;
-                    }
-                    setup.history = Some(hist.clone());
-                    committed = hist;
-                    lam_c = target;
-                    x_c.clone_from(&conv.x);
-                    let field = setup.field(&conv.ev);
-                    let observed = observe(lam_c, &displacements, &field);
-                    let (open, slip, stick) = state_counts(&conv.ev.state);
-                    let iterations = conv.history.len();
-                    easy &= iterations <= EASY_ITERATIONS;
-                    steps.push(LoadStep {
-                        lambda: lam_c,
-                        iterations,
-                        solves: spent + solves(&conv.history),
-                        rounds,
-                        cutbacks,
-                        open,
-                        slip,
-                        stick,
-                        observed,
-                    });
-                    last = Some((conv, (target >= 1.0).then_some(displacements)));
-                    (cutbacks, spent) = (0, 0);
-                }
+                let (easy, failed) = path.accept(setup, accepted, &mut observe);
+                let lam_c = path.lam_c;
                 if failed.is_none() {
                     if lam_c >= 1.0 {
                         break None;
@@ -303,11 +244,12 @@ pub fn stress_transfer_stepped<T>(
             Err(e) => Some((target, e)),
         };
         if let Some((target, e)) = failure {
-            cutbacks += 1;
-            spent += solves(e.history());
+            let lam_c = path.lam_c;
+            path.cutbacks += 1;
+            path.spent += solves(e.history());
             failed_at = Some(failed_at.map_or(target, |f| f.min(target)));
             let gap = target - lam_c;
-            if gap <= (BRACKET * lam_c).max(MIN_INCREMENT) || cutbacks > MAX_CUTBACKS {
+            if gap <= (BRACKET * lam_c).max(MIN_INCREMENT) || path.cutbacks > MAX_CUTBACKS {
                 if !retried && matches!(e, IterationError::NotConverged { .. }) {
                     classify = true;
                     delta = gap;
@@ -323,35 +265,128 @@ pub fn stress_transfer_stepped<T>(
             delta = (0.5 * gap).max(MIN_INCREMENT);
         }
     };
-
-    // The outcome at the last converged load (lambda = 0: the unloaded state).
-    setup.lambda = lam_c;
-    setup.history = Some(committed);
-    let outcome = match last {
-        Some((conv, displacements)) => {
-            // Joint blocks only: the whole displacements once, at the end.
-            let displacements = displacements.unwrap_or_else(|| setup.full_displacements(&x_c));
-            setup.finish_with(conv, displacements)
-        }
-        None => {
-            let mut released = setup.zero_loads();
-            let mut ev = setup.new_eval();
-            setup.evaluate(&x_c, &mut released, &mut ev);
-            let displacements = setup.full_displacements(&x_c);
-            setup.finish_with(Converged::new(x_c, Vec::new(), ev, Vec::new()), displacements)
-        }
-    };
-    Ok(Stepped {
-        outcome,
-        steps,
-        limit,
-    })
+    Ok(path.finish(setup, limit))
 }
 
-/// The committed history after converged step `conv` (the trial history
-/// `solve_step` left in `setup.history`, with the step's plastic slip).
-fn commit_history(setup: &mut Setup, conv: &Converged) -> Vec<PointHistory> {
-    let mut hist = setup.history.take().unwrap_or_default();
+/// The committed state of a stepped run: the history, released forces and
+/// load factor of the last converged step, that step (and its
+/// displacements if they hold every harmonic), the steps so far, and the
+/// failed attempts since the last converged step and their solves.
+struct Path<T> {
+    committed: Vec<PointHistory>,
+    x_c: Vec<f64>,
+    lam_c: f64,
+    last: Option<(Converged, Option<Displacements>)>,
+    steps: Vec<LoadStep<T>>,
+    cutbacks: u32,
+    spent: u32,
+}
+
+impl<T> Path<T> {
+    /// Before the first step: the joints as they start, no load.
+    fn new(setup: &Setup) -> Self {
+        let committed = (0..setup.n_pairs())
+            .map(|k| PointHistory {
+                debonded: setup.start.debonded.get(k).copied().unwrap_or(false),
+                ..PointHistory::default()
+            })
+            .collect();
+        Path {
+            committed,
+            x_c: vec![0.0; setup.len()],
+            lam_c: 0.0,
+            last: None,
+            steps: Vec::new(),
+            cutbacks: 0,
+            spent: 0,
+        }
+    }
+
+    /// Commits the converged steps `accepted` in order while their
+    /// displacements balance the load; `observe` sees each. Returns whether
+    /// every committed step was easy, and the load factor whose step left
+    /// the load unbalanced, with that error.
+    fn accept(
+        &mut self,
+        setup: &Setup,
+        accepted: Vec<Accepted>,
+        observe: &mut impl FnMut(f64, &Displacements, &JointField) -> T,
+    ) -> (bool, Option<(f64, IterationError)>) {
+        let mut easy = true;
+        for (target, conv, rounds, hist) in accepted {
+            let sweep = Sweep::new(setup, LoadState::stepped(target, &hist));
+            // Every harmonic at the whole load (the outcome's), the loaded
+            // faces' ones before.
+            let displacements = if target >= 1.0 {
+                sweep.full_displacements(&conv.x)
+            } else {
+                sweep.observed_displacements(&conv.x)
+            };
+            // A converged residual is not yet an equilibrium.
+            let imbalance = sweep.imbalance(&conv.x, &displacements);
+            if imbalance > IMBALANCE_TOL {
+                let e = unbalanced(setup, &conv.ev, imbalance, conv.history);
+                return (easy, Some((target, e)));
+            }
+            let field = sweep.field(&conv.ev);
+            self.committed = hist;
+            self.lam_c = target;
+            self.x_c.clone_from(&conv.x);
+            let observed = observe(self.lam_c, &displacements, &field);
+            let (open, slip, stick) = state_counts(&conv.ev.state);
+            let iterations = conv.history.len();
+            easy &= iterations <= EASY_ITERATIONS;
+            self.steps.push(LoadStep {
+                lambda: self.lam_c,
+                iterations,
+                solves: self.spent + solves(&conv.history),
+                rounds,
+                cutbacks: self.cutbacks,
+                open,
+                slip,
+                stick,
+                observed,
+            });
+            self.last = Some((conv, (target >= 1.0).then_some(displacements)));
+            (self.cutbacks, self.spent) = (0, 0);
+        }
+        (easy, None)
+    }
+
+    /// The outcome at the last converged load (lambda = 0: the unloaded
+    /// state), and the path to it (`limit`: where it stopped short).
+    fn finish(self, setup: &Setup, limit: Option<LimitLoad>) -> (Outcome, Stepped<T>) {
+        let Path {
+            committed,
+            x_c,
+            lam_c,
+            last,
+            steps,
+            ..
+        } = self;
+        let sweep = Sweep::new(setup, LoadState::stepped(lam_c, &committed));
+        let outcome = match last {
+            Some((conv, displacements)) => {
+                // Joint blocks only: the whole displacements once, at the end.
+                let displacements = displacements.unwrap_or_else(|| sweep.full_displacements(&x_c));
+                sweep.finish_with(conv, displacements)
+            }
+            None => {
+                let mut released = setup.transfer.zeros();
+                let mut ev = setup.new_eval();
+                sweep.evaluate(&x_c, &mut released, &mut ev);
+                let displacements = sweep.full_displacements(&x_c);
+                sweep.finish_with(Converged::new(x_c, Vec::new(), ev, Vec::new()), displacements)
+            }
+        };
+        (outcome, Stepped { steps, limit })
+    }
+}
+
+/// The committed history after converged step `conv` from its trial
+/// history `hist` (the committed one with the step's debonded points),
+/// with the step's plastic slip.
+fn commit_history(setup: &Setup, mut hist: Vec<PointHistory>, conv: &Converged) -> Vec<PointHistory> {
     for (i, h) in hist.iter_mut().enumerate() {
         let springs = setup.springs(i);
         commit(
@@ -389,77 +424,191 @@ enum Taken {
     Rejected(Box<Accepted>),
 }
 
-/// One attempt at the step `at` = (from, to) load factor from the
-/// `committed` history and the last converged step `from`; `solved` is the
-/// step if the path check already solved it (the first half of a rejected
-/// one). With `check` (the path check) a new step is first solved only to
-/// the accuracy the comparison needs ([`PATH_ACCURACY`]); if points lost
-/// strength in it ([`lost_strength`]) it is compared with its two halves
-/// (solved to the full accuracy, and kept when they agree), else converged
-/// the rest of the way. `spent` adds the solves of what is not kept.
-#[allow(clippy::too_many_arguments)]
-fn take_step(
-    setup: &mut Setup,
-    committed: &[PointHistory],
-    from: Option<&Converged>,
-    at: (f64, f64),
-    check: bool,
-    solved: Option<Accepted>,
+/// Where a step starts: the committed history and the last converged step
+/// (none before the first).
+#[derive(Clone, Copy)]
+struct Base<'p> {
+    history: &'p [PointHistory],
+    conv: Option<&'p Converged>,
+}
+
+/// What every step of a run shares: the fixed data, the reference `Psi_0`
+/// of the residual ratio, and the progress callback.
+struct Run<'r, 's, 'a> {
+    setup: &'s Setup<'a>,
     psi_ref: f64,
-    settings: &IterationSettings,
-    progress: &mut dyn FnMut(&IterationRecord),
-    spent: &mut u32,
-) -> Result<Taken, IterationError> {
-    let (lam_c, target) = at;
-    // The whole step, and its trial history if it is solved loosely.
-    let (whole, loose) = match solved {
-        Some(step) => (step, None),
-        None => {
-            let loose = IterationSettings {
-                epsilon: settings.epsilon.max(PATH_ACCURACY * PATH_TOL),
-                ..*settings
-            };
-            setup.lambda = target;
-            setup.history = Some(committed.to_vec());
-            let start = start_after(setup, from, psi_ref);
-            let (conv, rounds) = solve_step(setup, start, if check { &loose } else { settings }, progress)?;
-            let trial = setup.history.clone().unwrap_or_default();
-            let hist = commit_history(setup, &conv);
-            ((target, conv, rounds, hist), check.then_some(trial))
+    progress: &'r mut dyn FnMut(&IterationRecord),
+}
+
+impl Run<'_, '_, '_> {
+    /// One attempt at the step `at` = (from, to) load factor from `base`;
+    /// `solved` is the step if the path check already solved it (the
+    /// first half of a rejected one). With `check` (the path check) a new
+    /// step is first solved only to the accuracy the comparison needs
+    /// ([`PATH_ACCURACY`]); if points lost strength in it
+    /// ([`lost_strength`]) it is compared with its two halves (solved to
+    /// the full accuracy, and kept when they agree), else converged the
+    /// rest of the way. `spent` adds the solves of what is not kept.
+    fn take_step(
+        &mut self,
+        base: Base,
+        at: (f64, f64),
+        check: bool,
+        solved: Option<Accepted>,
+        settings: &IterationSettings,
+        spent: &mut u32,
+    ) -> Result<Taken, IterationError> {
+        let (lam_c, target) = at;
+        // The whole step, and its trial history if it is solved loosely.
+        let (whole, loose) = match solved {
+            Some(step) => (step, None),
+            None => {
+                let loose = IterationSettings {
+                    epsilon: settings.epsilon.max(PATH_ACCURACY * PATH_TOL),
+                    ..*settings
+                };
+                let mut trial = base.history.to_vec();
+                let start = start_after(self.setup, base.conv, self.psi_ref);
+                let (conv, rounds) =
+                    self.solve_step(target, &mut trial, start, if check { &loose } else { settings })?;
+                let loose_trial = check.then(|| trial.clone());
+                let hist = commit_history(self.setup, trial, &conv);
+                ((target, conv, rounds, hist), loose_trial)
+            }
+        };
+        if !check || !lost_strength(self.setup, base.history, &whole.3) {
+            return self.keep(whole, loose, settings);
         }
-    };
-    // The whole step kept: converged the rest of the way if it is loose and
-    // short of epsilon.
-    let keep = |setup: &mut Setup, progress: &mut dyn FnMut(&IterationRecord), whole: Accepted| {
+        let mid = lam_c + 0.5 * (target - lam_c);
+        match self.halves(base, (mid, target), settings) {
+            Ok((first, second)) => {
+                *spent += solves(&whole.1.history);
+                if path_change(&whole.1.ev.u_s, &second.1.ev.u_s) > PATH_TOL {
+                    *spent += solves(&second.1.history);
+                    return Ok(Taken::Rejected(Box::new(first)));
+                }
+                Ok(Taken::Steps(vec![first, second]))
+            }
+            // The halves failed where the whole step converged: the whole step.
+            Err(e) => {
+                *spent += solves(e.history());
+                self.keep(whole, loose, settings)
+            }
+        }
+    }
+
+    /// The whole step kept: converged the rest of the way if it was solved
+    /// loosely (`loose`: its trial history) and is short of epsilon.
+    fn keep(
+        &mut self,
+        whole: Accepted,
+        loose: Option<Vec<PointHistory>>,
+        settings: &IterationSettings,
+    ) -> Result<Taken, IterationError> {
         let (lambda, conv, rounds, hist) = whole;
         let short = conv.history.last().is_some_and(|r| r.ratio >= settings.epsilon);
         match loose.filter(|_| short) {
             Some(trial) => {
-                setup.lambda = lambda;
-                let step = polish(setup, trial, conv, rounds, psi_ref, settings, progress)?;
+                let step = self.polish(lambda, trial, conv, rounds, settings)?;
                 Ok(Taken::Steps(vec![step]))
             }
             None => Ok(Taken::Steps(vec![(lambda, conv, rounds, hist)])),
         }
-    };
-    if !check || !lost_strength(setup, committed, &whole.3) {
-        return keep(setup, progress, whole);
     }
-    let mid = lam_c + 0.5 * (target - lam_c);
-    match halves(setup, committed, from, (mid, target), psi_ref, settings, progress) {
-        Ok((first, second)) => {
-            *spent += solves(&whole.1.history);
-            if path_change(&whole.1.ev.u_s, &second.1.ev.u_s) > PATH_TOL {
-                *spent += solves(&second.1.history);
-                return Ok(Taken::Rejected(Box::new(first)));
+
+    /// Converges step `conv` (at load factor `lambda`, solved to a looser
+    /// epsilon in `rounds` debonding rounds, leaving the `trial` history)
+    /// to the accuracy of `settings`, from where it is; its history holds
+    /// both.
+    fn polish(
+        &mut self,
+        lambda: f64,
+        mut trial: Vec<PointHistory>,
+        mut conv: Converged,
+        rounds: u32,
+        settings: &IterationSettings,
+    ) -> Result<Accepted, IterationError> {
+        let mut records = std::mem::take(&mut conv.history);
+        let start = Start::resume(conv, Some(self.psi_ref));
+        let (mut conv, more) = self
+            .solve_step(lambda, &mut trial, start, settings)
+            .map_err(|mut e| {
+                e.prepend_history(&records);
+                e
+            })?;
+        records.append(&mut conv.history);
+        conv.history = records;
+        let hist = commit_history(self.setup, trial, &conv);
+        Ok((lambda, conv, rounds + more - 1, hist))
+    }
+
+    /// The two halves of a step from `base` to `at` = (mid, end).
+    fn halves(
+        &mut self,
+        base: Base,
+        at: (f64, f64),
+        settings: &IterationSettings,
+    ) -> Result<(Accepted, Accepted), IterationError> {
+        let mut h1 = base.history.to_vec();
+        let start = start_after(self.setup, base.conv, self.psi_ref);
+        let (c1, r1) = self.solve_step(at.0, &mut h1, start, settings)?;
+        let h1 = commit_history(self.setup, h1, &c1);
+        let mut h2 = h1.clone();
+        let start = start_after(self.setup, Some(&c1), self.psi_ref);
+        let (c2, r2) = self.solve_step(at.1, &mut h2, start, settings)?;
+        let h2 = commit_history(self.setup, h2, &c2);
+        Ok(((at.0, c1, r1, h1), (at.1, c2, r2, h2)))
+    }
+
+    /// One step at load factor `lambda` from `history`: the method's
+    /// solve, then debonding rounds. Adds the new debonded points to
+    /// `history` (the step's trial history).
+    fn solve_step(
+        &mut self,
+        lambda: f64,
+        history: &mut [PointHistory],
+        mut start: Start,
+        settings: &IterationSettings,
+    ) -> Result<(Converged, u32), IterationError> {
+        let setup = self.setup;
+        let psi_ref = start.psi_ref;
+        let mut records = Vec::new();
+        for round in 1..=MAX_ROUNDS {
+            let sweep = Sweep::new(setup, LoadState::stepped(lambda, history));
+            let mut conv = method::run(&sweep, settings, start, self.progress).map_err(|f| {
+                let mut e = f.error;
+                e.prepend_history(&records);
+                e
+            })?;
+            // The intact pairs above their tensile strength.
+            let n_p = setup.points.len().max(1);
+            let breaking: Vec<usize> = (0..history.len())
+                .filter(|&i| {
+                    let info = &setup.points[i % n_p];
+                    let t = setup.trial(info.joint, conv.ev.d[i], Some(&history[i]), setup.t0(i));
+                    exceeds_tensile_strength(&setup.laws[info.joint], t[1], &history[i])
+                })
+                .collect();
+            // Debonding takes only the tensile strength: where it is 0 the law
+            // is the same before and after, and the step need not be solved again.
+            let debonded = breaking
+                .iter()
+                .filter(|&&i| has_tensile_strength(&setup.laws[setup.points[i % n_p].joint]))
+                .count();
+            for i in breaking {
+                history[i].debonded = true;
             }
-            Ok(Taken::Steps(vec![first, second]))
+            records.append(&mut conv.history);
+            if debonded == 0 {
+                conv.history = records;
+                return Ok((conv, round));
+            }
+            start = Start::resume(conv, psi_ref);
         }
-        // The halves failed where the whole step converged: the whole step.
-        Err(e) => {
-            *spent += solves(e.history());
-            keep(setup, progress, whole)
-        }
+        Err(IterationError::Rounds {
+            rounds: MAX_ROUNDS,
+            history: records,
+        })
     }
 }
 
@@ -472,55 +621,6 @@ fn lost_strength(setup: &Setup, committed: &[PointHistory], trial: &[PointHistor
     committed.iter().zip(trial).enumerate().any(|(i, (c, t))| {
         t.debonded && !c.debonded && has_tensile_strength(&setup.laws[setup.points[i % n_p].joint])
     })
-}
-
-/// Converges step `conv` (at `setup.lambda`, solved to a looser epsilon in
-/// `rounds` debonding rounds, leaving the `trial` history) to the accuracy
-/// of `settings`, from where it is; its history holds both.
-fn polish(
-    setup: &mut Setup,
-    trial: Vec<PointHistory>,
-    mut conv: Converged,
-    rounds: u32,
-    psi_ref: f64,
-    settings: &IterationSettings,
-    progress: &mut dyn FnMut(&IterationRecord),
-) -> Result<Accepted, IterationError> {
-    setup.history = Some(trial);
-    let mut records = std::mem::take(&mut conv.history);
-    let start = Start::resume(conv, Some(psi_ref));
-    let (mut conv, more) = solve_step(setup, start, settings, progress).map_err(|mut e| {
-        e.prepend_history(&records);
-        e
-    })?;
-    records.append(&mut conv.history);
-    conv.history = records;
-    let hist = commit_history(setup, &conv);
-    Ok((setup.lambda, conv, rounds + more - 1, hist))
-}
-
-/// The two halves of a step from the committed `history` and the last
-/// converged step `from` to `at` = (mid, end).
-fn halves(
-    setup: &mut Setup,
-    history: &[PointHistory],
-    from: Option<&Converged>,
-    at: (f64, f64),
-    psi_ref: f64,
-    settings: &IterationSettings,
-    progress: &mut dyn FnMut(&IterationRecord),
-) -> Result<(Accepted, Accepted), IterationError> {
-    setup.lambda = at.0;
-    setup.history = Some(history.to_vec());
-    let start = start_after(setup, from, psi_ref);
-    let (c1, r1) = solve_step(setup, start, settings, progress)?;
-    let h1 = commit_history(setup, &c1);
-    setup.lambda = at.1;
-    setup.history = Some(h1.clone());
-    let start = start_after(setup, Some(&c1), psi_ref);
-    let (c2, r2) = solve_step(setup, start, settings, progress)?;
-    let h2 = commit_history(setup, &c2);
-    Ok(((at.0, c1, r1, h1), (at.1, c2, r2, h2)))
 }
 
 /// Whether a law has a tensile strength to lose.
@@ -540,61 +640,4 @@ fn path_change(a: &[f64], b: &[f64]) -> f64 {
     } else {
         0.0
     }
-}
-
-/// One step at `setup.lambda` from the history in `setup.history`: the
-/// method's solve, then debonding rounds. Leaves the trial history (with
-/// the new debonded points) in `setup.history`.
-fn solve_step(
-    setup: &mut Setup,
-    mut start: Start,
-    settings: &IterationSettings,
-    progress: &mut dyn FnMut(&IterationRecord),
-) -> Result<(Converged, u32), IterationError> {
-    let psi_ref = start.psi_ref;
-    let mut records = Vec::new();
-    for round in 1..=MAX_ROUNDS {
-        let mut conv = match settings.method {
-            Method::Plain => fixed_point(setup, 0, settings, start, progress),
-            Method::Anderson { depth } => fixed_point(setup, depth, settings, start, progress),
-            Method::Newton => newton(setup, settings, start, progress),
-        }
-        .map_err(|f| {
-            let mut e = f.error;
-            e.prepend_history(&records);
-            e
-        })?;
-        // The intact pairs above their tensile strength.
-        let n_p = setup.points.len().max(1);
-        let breaking: Vec<usize> = setup.history.as_ref().map_or_else(Vec::new, |hist| {
-            (0..hist.len())
-                .filter(|&i| {
-                    let info = &setup.points[i % n_p];
-                    let t = setup.trial(info.joint, conv.ev.d[i], Some(&hist[i]), setup.t0(i));
-                    exceeds_tensile_strength(&setup.laws[info.joint], t[1], &hist[i])
-                })
-                .collect()
-        });
-        // Debonding takes only the tensile strength: where it is 0 the law
-        // is the same before and after, and the step need not be solved again.
-        let debonded = breaking
-            .iter()
-            .filter(|&&i| has_tensile_strength(&setup.laws[setup.points[i % n_p].joint]))
-            .count();
-        if let Some(hist) = setup.history.as_mut() {
-            for i in breaking {
-                hist[i].debonded = true;
-            }
-        }
-        records.append(&mut conv.history);
-        if debonded == 0 {
-            conv.history = records;
-            return Ok((conv, round));
-        }
-        start = Start::resume(conv, psi_ref);
-    }
-    Err(IterationError::Rounds {
-        rounds: MAX_ROUNDS,
-        history: records,
-    })
 }

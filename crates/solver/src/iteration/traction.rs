@@ -37,11 +37,13 @@
 //! ([`BlockPreconditioner`]): `J^-1 r = -(y + Dd^-1 Dv k_a B S P^-1 A G y)`,
 //! `y = Dd^-1 r`, exact when the interface is small.
 
+use super::attempt::Start;
+use super::eval::Eval;
 use super::formulation::{Formulation, NEWTON_HALVINGS_STIFF};
 use super::precondition::BlockPreconditioner;
-use super::release::{law_tangent, Eval, Tangent};
-use super::setup::{JointAmplitudes, Setup};
-use super::Start;
+use super::release::{law_tangent, Tangent};
+use super::sweep::Sweep;
+use super::transfer::JointAmplitudes;
 use nalgebra::Matrix3;
 use rayon::prelude::*;
 
@@ -51,7 +53,7 @@ const I3: M3 = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
 
 /// The traction formulation and its linearization.
 pub(super) struct Traction<'s, 'a> {
-    setup: &'s Setup<'a>,
+    sweep: Sweep<'s, 'a>,
     /// `k_a / k` per joint and component (1 where k = 0).
     rho: Vec<[f64; 3]>,
     /// Per (section, point): `Dv diag(k_a)`, `Dd` and `Dd^-1`.
@@ -67,7 +69,8 @@ pub(super) struct Traction<'s, 'a> {
 }
 
 impl<'s, 'a> Traction<'s, 'a> {
-    pub(super) fn new(setup: &'s Setup<'a>) -> Self {
+    pub(super) fn new(sweep: Sweep<'s, 'a>) -> Self {
+        let setup = sweep.setup;
         let rho = setup
             .model
             .joints
@@ -85,7 +88,7 @@ impl<'s, 'a> Traction<'s, 'a> {
             .collect();
         let n = setup.n_pairs();
         Traction {
-            setup,
+            sweep,
             rho,
             dvk: vec![I3; n],
             dd: vec![I3; n],
@@ -100,7 +103,7 @@ impl<'s, 'a> Traction<'s, 'a> {
     /// The first iterate: the tractions a warm start carries (same run,
     /// same formulation), else zero.
     pub(super) fn start(&self, from: &Start) -> Vec<f64> {
-        let n = 3 * self.setup.n_pairs();
+        let n = 3 * self.sweep.setup.n_pairs();
         match &from.y0 {
             Some(y) if y.len() == n => y.clone(),
             _ => vec![0.0; n],
@@ -111,17 +114,18 @@ impl<'s, 'a> Traction<'s, 'a> {
     /// and released traction `tau`: the traction the model carries `t`,
     /// and the point `z` the law is evaluated at.
     fn carried(
-        s: &Setup,
+        sweep: &Sweep,
         rho: &[[f64; 3]],
         k: usize,
         i: usize,
         d: [f64; 3],
         tau: &[f64],
     ) -> ([f64; 3], [f64; 3]) {
+        let s = sweep.setup;
         let joint = s.points[i].joint;
         let t0 = s.t0(k);
         let ka = s.model.joints[joint].assembled.traction(d);
-        let h = s.history.as_ref().and_then(|h| h.get(k));
+        let h = sweep.state.history_of(k);
         let trial = s.trial(joint, d, h, t0);
         let rho = rho[joint];
         let t = [0, 1, 2].map(|c| t0[c] + ka[c] - tau[c]);
@@ -138,16 +142,16 @@ fn mul3(a: &M3, v: [f64; 3]) -> [f64; 3] {
 }
 
 impl Formulation for Traction<'_, '_> {
-    fn setup(&self) -> &Setup<'_> {
-        self.setup
+    fn sweep(&self) -> &Sweep<'_, '_> {
+        &self.sweep
     }
 
     fn len(&self) -> usize {
-        3 * self.setup.n_pairs()
+        3 * self.sweep.setup.n_pairs()
     }
 
     fn forces(&self, y: &[f64], x: &mut [f64]) {
-        let s = self.setup;
+        let s = self.sweep.setup;
         let n_p = s.points.len();
         x.par_chunks_mut(s.per_section())
             .with_min_len(s.min_len())
@@ -163,7 +167,7 @@ impl Formulation for Traction<'_, '_> {
     }
 
     fn residual(&self, y: &[f64], ev: &mut Eval, res: &mut [f64]) {
-        let s = self.setup;
+        let s = self.sweep.setup;
         let n_p = s.points.len().max(1);
         let m = s.per_section();
         let (u_s, sections) = ev.sections_mut(m, n_p, s.min_len());
@@ -176,9 +180,9 @@ impl Formulation for Traction<'_, '_> {
                     let k = sec * n_p + i;
                     let tau = &y[3 * k..3 * k + 3];
                     let dk = s.relative(i, &u_s[sec * m..(sec + 1) * m]);
-                    let (t, z) = Self::carried(s, &self.rho, k, i, dk, tau);
+                    let (t, z) = Self::carried(&self.sweep, &self.rho, k, i, dk, tau);
                     let springs = &s.model.joints[s.points[i].joint].assembled;
-                    let (pk, st) = s.admissible((k, i), z, springs, &mut out.broken[i]);
+                    let (pk, st) = self.sweep.admissible((k, i), z, springs, &mut out.broken[i]);
                     let f = [0, 1, 2].map(|c| t[c] - pk[c]);
                     rs[3 * i..3 * i + 3].copy_from_slice(&f);
                     // The release in nodal form: what the model's spring and
@@ -197,7 +201,7 @@ impl Formulation for Traction<'_, '_> {
 
     fn linearize(&mut self, y: &[f64], ev: &Eval) {
         let Traction {
-            setup: s,
+            sweep,
             rho,
             dvk,
             dd,
@@ -206,7 +210,7 @@ impl Formulation for Traction<'_, '_> {
             pre,
             ..
         } = self;
-        let s = *s;
+        let (sweep, s) = (&*sweep, sweep.setup);
         let n_p = s.points.len().max(1);
         dvk.par_iter_mut()
             .zip(dd.par_iter_mut())
@@ -216,17 +220,11 @@ impl Formulation for Traction<'_, '_> {
             .for_each(|(k, (((dvk, dd), dd_inv), tangent))| {
                 let i = k % n_p;
                 let joint = s.points[i].joint;
-                let (_, z) = Self::carried(s, rho, k, i, ev.d[k], &y[3 * k..3 * k + 3]);
+                let (_, z) = Self::carried(sweep, rho, k, i, ev.d[k], &y[3 * k..3 * k + 3]);
                 let law = &s.laws[joint];
                 let rate = s.opening_rate(joint, &s.model.joints[joint].assembled);
-                let e = law_tangent(
-                    law,
-                    s.history.as_ref().and_then(|h| h.get(k)),
-                    z,
-                    ev.state[k],
-                    rate,
-                )
-                .unwrap_or([[0.0; 3]; 3]);
+                let e = law_tangent(law, sweep.state.history_of(k), z, ev.state[k], rate)
+                    .unwrap_or([[0.0; 3]; 3]);
                 let rho = rho[joint];
                 let ka = s.model.joints[joint].assembled;
                 let ka = [ka.k_xi, ka.k_eta, ka.k_theta];
@@ -254,7 +252,7 @@ impl Formulation for Traction<'_, '_> {
     }
 
     fn apply_j(&self, z: &[f64], wz: &[f64], out: &mut [f64]) {
-        let s = self.setup;
+        let s = self.sweep.setup;
         let n_p = s.points.len().max(1);
         let m = s.per_section();
         out.par_chunks_mut(3 * n_p)
@@ -277,7 +275,7 @@ impl Formulation for Traction<'_, '_> {
         let Some(pre) = &self.pre else {
             return false;
         };
-        let s = self.setup;
+        let s = self.sweep.setup;
         let n_p = s.points.len().max(1);
         for (k, o) in out.chunks_mut(3).enumerate() {
             o.copy_from_slice(&mul3(&self.dd_inv[k], [r[3 * k], r[3 * k + 1], r[3 * k + 2]]));

@@ -52,8 +52,6 @@ pub fn initial_phase(
     loads: &[HarmonicLoads],
     progress: impl FnMut(&IterationRecord),
 ) -> Result<InitialState, SolverError> {
-    use crate::iteration::StepControl;
-    use crate::scene::Loading;
     let model = &problem.model;
     let il = crate::initial::initial_load(scene, model)?;
     let n = model.mesh.nodes.len();
@@ -85,50 +83,28 @@ pub fn initial_phase(
             beyond_capacity: matches!(e, IterationError::NoEquilibrium { .. }),
             message: e.to_string(),
         };
-        let outcome = match scene.solver.loading {
-            Loading::OneShot => crate::iteration::stress_transfer_from(
-                model,
-                &problem.factors,
-                &phase,
-                &laws,
-                &sections,
-                &settings,
-                None,
-                Some(&start),
-                progress,
-            )
-            .map_err(failed)?,
-            loading => {
-                let control = match loading {
-                    Loading::Steps(k) => StepControl::steps(k),
-                    _ => StepControl::AUTO,
-                };
-                let stepped = crate::iteration::stress_transfer_stepped(
-                    model,
-                    &problem.factors,
-                    &phase,
-                    &laws,
-                    &sections,
-                    &settings,
-                    control,
-                    None,
-                    Some(&start),
-                    progress,
-                    |_, _, _| (),
-                )
-                .map_err(failed)?;
-                if let Some(limit) = stepped.limit {
-                    return Err(SolverError::InitialPhase {
-                        message: format!(
-                            "the joints cannot carry the initial state: the phase reached only {:.4} of its load ({})",
-                            limit.factor, limit.reason
-                        ),
-                        beyond_capacity: limit.beyond_capacity,
-                    });
-                }
-                stepped.outcome
-            }
+        let problem = crate::iteration::Problem {
+            model,
+            factors: &problem.factors,
+            loads: &phase,
+            laws: &laws,
+            sections: &sections,
+            elastic: None,
         };
+        let loading = scene.solver.loading.into();
+        let solved =
+            crate::iteration::solve(&problem, &settings, Some(&start), loading, |_, _, _| (), progress)
+                .map_err(failed)?;
+        if let Some(limit) = solved.stepped.and_then(|s| s.limit) {
+            return Err(SolverError::InitialPhase {
+                message: format!(
+                    "the joints cannot carry the initial state: the phase reached only {:.4} of its load ({})",
+                    limit.factor, limit.reason
+                ),
+                beyond_capacity: limit.beyond_capacity,
+            });
+        }
+        let outcome = solved.outcome;
         let iterations = outcome.history.len();
         let field = outcome.field;
         (

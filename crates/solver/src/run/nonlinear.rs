@@ -10,10 +10,10 @@ use super::model::{iteration_settings, joint_laws, scene_sections};
 use super::{Run, Stopped};
 use crate::error::SolverError;
 use crate::fourier::Sections;
-use crate::iteration::{IterationRecord, JointField, Outcome, StepControl};
+use crate::iteration::{IterationRecord, JointField, Outcome};
 use crate::loads::HarmonicLoads;
 use crate::results::{JointAreas, JointFieldFile, LoadPath, StepMeasure};
-use crate::scene::{Loading, Scene};
+use crate::scene::Scene;
 use crate::solution::Displacements;
 use std::sync::Arc;
 use std::time::Instant;
@@ -33,7 +33,7 @@ pub(super) struct Start<'a> {
 }
 
 /// The nonlinear solution with harmonics 0..=m on `sections`: one-shot or
-/// along the load path of `solver.loading`.
+/// along the load path of `solver.loading` (the iteration chooses).
 pub(super) fn iterate(
     scene: &Scene,
     start: Start<'_>,
@@ -52,23 +52,13 @@ pub(super) fn iterate(
     let model = &problem.model;
     let laws = joint_laws(scene, model);
     let settings = iteration_settings(scene);
-    let control = match scene.solver.loading {
-        Loading::OneShot => {
-            let outcome = crate::iteration::stress_transfer_from(
-                model,
-                &problem.factors,
-                &loads,
-                &laws,
-                sections,
-                &settings,
-                Some(elastic),
-                joint_start.as_ref(),
-                progress,
-            )?;
-            return Ok((outcome, None));
-        }
-        Loading::Steps(n) => StepControl::steps(n),
-        Loading::Auto => StepControl::AUTO,
+    let iteration = crate::iteration::Problem {
+        model,
+        factors: &problem.factors,
+        loads: &loads,
+        laws: &laws,
+        sections,
+        elastic: Some(elastic),
     };
     let mesh = &model.mesh;
     let springs: Vec<_> = model.joints.iter().map(|j| j.springs).collect();
@@ -96,26 +86,20 @@ pub(super) fn iterate(
                 .collect(),
         }
     };
-    let stepped = crate::iteration::stress_transfer_stepped(
-        model,
-        &problem.factors,
-        &loads,
-        &laws,
-        sections,
+    let loading = scene.solver.loading.into();
+    let solved = crate::iteration::solve(
+        &iteration,
         &settings,
-        control,
-        Some(elastic),
         joint_start.as_ref(),
-        progress,
+        loading,
         observe,
+        progress,
     )?;
-    Ok((
-        stepped.outcome,
-        Some(LoadPath {
-            steps: stepped.steps,
-            limit: stepped.limit,
-        }),
-    ))
+    let path = solved.stepped.map(|s| LoadPath {
+        steps: s.steps,
+        limit: s.limit,
+    });
+    Ok((solved.outcome, path))
 }
 
 /// The rest of a run from its elastic solution and initial state: the

@@ -1,0 +1,313 @@
+//! The iteration's public types: its settings ([`IterationSettings`]), the
+//! problem it solves ([`Problem`]), where the joints start ([`JointStart`]),
+//! what it gives ([`Outcome`], [`JointField`], [`IterationRecord`]) and why
+//! it stops ([`IterationError`]).
+
+use crate::elements::JointPoint;
+use crate::fourier::Sections;
+use crate::joint_law::JointState;
+use crate::linear::{HarmonicFactor, Model};
+use crate::loads::HarmonicLoads;
+use crate::scene::JointLaw;
+use crate::solution::Displacements;
+use serde::{Deserialize, Serialize};
+
+/// The problem an iteration solves: the loads of `model` (every harmonic
+/// factorized in `factors`), `laws[j]` the law of `model.joints[j]`,
+/// evaluated at `sections`.
+#[derive(Clone, Copy)]
+pub struct Problem<'a> {
+    /// The model.
+    pub model: &'a Model,
+    /// The factors of (at least) every harmonic of `loads`.
+    pub factors: &'a [HarmonicFactor],
+    /// The loads, per harmonic.
+    pub loads: &'a [HarmonicLoads],
+    /// The law of each joint of the model.
+    pub laws: &'a [JointLaw],
+    /// Where the joints are evaluated around the turn.
+    pub sections: &'a Sections,
+    /// The elastic solution `K^-1 F` of (some of) the harmonics of `loads`,
+    /// if known: those cost no solve.
+    pub elastic: Option<&'a Displacements>,
+}
+
+/// How the next released forces are chosen.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Method {
+    /// The paper's plain iteration: `x_{k+1} = Psi(x_k)`.
+    Plain,
+    /// Anderson mixing over the last `depth` iterates (type II).
+    Anderson {
+        /// History length.
+        depth: usize,
+    },
+    /// Semi-smooth Newton-Krylov on `R(x) = Psi(x) - x = 0`: the
+    /// generalized Jacobian `J = D(x) W - I` (D the joint tangent of the
+    /// release at the states of x, W the elastic back-substitution chain),
+    /// solved by a minimal-residual Krylov method (GCR, equivalent to GMRES)
+    /// whose directions are recycled across Newton steps, and a backtracking
+    /// line search on `|R|` with a fallback to the plain step. See the private `newton` module.
+    Newton,
+}
+
+/// Convergence settings.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct IterationSettings {
+    /// Update rule.
+    pub method: Method,
+    /// Converged when `Psi_k / Psi_0 < epsilon`.
+    pub epsilon: f64,
+    /// Iteration limit: iterations of the fixed-point methods (one sweep
+    /// each); for [`Method::Newton`] both its steps and its sweeps.
+    pub max_iterations: u32,
+    /// No equilibrium when the residual ratio makes no new minimum (by 0.1 %)
+    /// within this many iterations (fixed-point methods).
+    pub stall_window: u32,
+}
+
+impl Default for IterationSettings {
+    fn default() -> Self {
+        IterationSettings {
+            method: Method::Anderson { depth: 8 },
+            epsilon: 1e-6,
+            max_iterations: 500,
+            stall_window: 40,
+        }
+    }
+}
+
+/// One line of the convergence history.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct IterationRecord {
+    /// Iteration (1 = the elastic solve); a Newton step for [`Method::Newton`].
+    pub iteration: u32,
+    /// `Psi_k / Psi_0` (0 for the first iteration when nothing is released).
+    pub ratio: f64,
+    /// Open (point, section) pairs.
+    pub open: usize,
+    /// Slipping pairs.
+    pub slip: usize,
+    /// Sticking pairs.
+    pub stick: usize,
+    /// Seconds since the iteration started.
+    pub seconds: f64,
+    /// Back-substitution sweeps (a solve of every harmonic) this record
+    /// cost: 1 per iteration of the fixed-point methods, the Krylov
+    /// directions plus any plain-step or verification evaluations of a
+    /// Newton step. Their sum over the history is the run's cost in solves.
+    #[serde(default)]
+    pub solves: u32,
+    /// The load factor lambda of the step this iteration belongs to (1 for
+    /// a one-shot run).
+    #[serde(default = "one")]
+    pub load_factor: f64,
+}
+
+fn one() -> f64 {
+    1.0
+}
+/// Where a joint integration point is.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PointInfo {
+    /// Joint index (as `mesh.joints`).
+    pub joint: usize,
+    /// Element index within the joint.
+    pub element: usize,
+    /// The integration point.
+    pub point: JointPoint,
+    /// Element nodes, bottom then top.
+    pub nodes: Vec<usize>,
+}
+
+/// The integration points of every joint of `model`, in the order of the
+/// joint fields (joints, then elements, then points).
+pub fn joint_point_infos(model: &Model) -> Vec<PointInfo> {
+    let mesh = &model.mesh;
+    let mut points = Vec::new();
+    for (j, joint) in mesh.joints.iter().enumerate() {
+        let rule = model.joints[j].rule;
+        for (e, el) in joint.elements.iter().enumerate() {
+            let coords: Vec<[f64; 2]> = el.bottom.iter().map(|&k| mesh.nodes[k]).collect();
+            let nodes: Vec<usize> = el.bottom.iter().chain(&el.top).copied().collect();
+            for point in crate::elements::joint_points(el.kind, &coords, rule) {
+                points.push(PointInfo {
+                    joint: j,
+                    element: e,
+                    point,
+                    nodes: nodes.clone(),
+                });
+            }
+        }
+    }
+    points
+}
+
+/// Joint relative displacements, admissible tractions and states at every
+/// point and section: index `s * n_points + p`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct JointField {
+    /// The sections.
+    pub sections: Sections,
+    /// The points.
+    pub points: Vec<PointInfo>,
+    /// Relative displacement `(d_xi, d_eta, d_theta)`.
+    pub d: Vec<[f64; 3]>,
+    /// Admissible traction `(tau_xi, sigma, tau_theta)`.
+    pub p: Vec<[f64; 3]>,
+    /// State.
+    pub state: Vec<JointState>,
+    /// Debonded (no cohesion, no tensile strength left).
+    pub debonded: Vec<bool>,
+}
+
+/// The joint state an iteration starts from (the end of an initial phase),
+/// per (section, point) pair, index `s * n_points + p`.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct JointStart {
+    /// Traction `(tau_xi, sigma, tau_theta)` carried at zero displacement.
+    pub traction: Vec<[f64; 3]>,
+    /// Debonded pairs.
+    pub debonded: Vec<bool>,
+}
+
+/// A converged nonlinear solution.
+#[derive(Clone, Debug)]
+pub struct Outcome {
+    /// Displacement amplitudes.
+    pub displacements: Displacements,
+    /// Size of each harmonic of the released traction at the solution,
+    /// `|f_m| / c_m` over the joint nodes, for m up to what the sections
+    /// resolve: content above the solved M shows what the truncation drops.
+    pub released_spectrum: Vec<f64>,
+    /// Convergence history.
+    pub history: Vec<IterationRecord>,
+    /// Joint field at the solution.
+    pub field: JointField,
+}
+
+/// Why the iteration stopped without a solution.
+#[derive(Debug, thiserror::Error)]
+pub enum IterationError {
+    /// The load exceeds what the joints can carry (the residual stalls or grows).
+    #[error("no equilibrium: {reason}; joint '{joint}' carries most of the unbalanced force (all joints: {open} open and {slip} slipping of {total} point-sections at iteration {iteration})")]
+    NoEquilibrium {
+        /// The joint with the largest residual.
+        joint: String,
+        /// What was detected.
+        reason: String,
+        /// Counts at the last iteration.
+        open: usize,
+        /// Slipping count.
+        slip: usize,
+        /// Point-sections.
+        total: usize,
+        /// Last iteration.
+        iteration: u32,
+        /// The history so far.
+        history: Vec<IterationRecord>,
+        /// The last iterate of a one-shot run (joint states, displacements),
+        /// for diagnosis; not an equilibrium.
+        last: Option<Box<Outcome>>,
+    },
+    /// The iteration stalled on a joint much stiffer than its elements:
+    /// whether an equilibrium exists cannot be told.
+    #[error("not converged: {reason}; joint '{joint}' is much stiffer than the elements along it (k h / E = {stiffness:.1}): the paper and anderson methods keep the elastic joint stiffness in K_m, so a released traction comes back through the same stiff spring and the iteration crawls; newton (the default, with load steps) iterates on the released tractions there and converged up to k h / E = 1e6 on the measured cases with the default sections (docs/stability.md), slower where the interface has more than 6000 pair unknowns over the harmonics. This does not show that the load exceeds what the joint can carry; use newton with load steps and the default sections, soften the joint (k h / E of about 1 suffices for every method), or refine the mesh along it (iteration {iteration})")]
+    StiffJoint {
+        /// The joint with the largest residual.
+        joint: String,
+        /// `k h / E` of that joint (largest spring, mean element length,
+        /// stiffer neighbouring body).
+        stiffness: f64,
+        /// What was detected.
+        reason: String,
+        /// Last iteration.
+        iteration: u32,
+        /// The history so far.
+        history: Vec<IterationRecord>,
+        /// The last iterate of a one-shot run (joint states, displacements),
+        /// for diagnosis; not an equilibrium.
+        last: Option<Box<Outcome>>,
+    },
+    /// The iteration limit was reached while still converging.
+    #[error("not converged within the iteration limit {limit} ({iterations} iterations, {solves} solves): residual ratio {ratio:.3e} > epsilon {epsilon:.1e}; it was still decreasing: raise solver.max_iterations (if it decreases ever more slowly, the load may be close to what the joints can carry)")]
+    NotConverged {
+        /// Iterations done.
+        iterations: u32,
+        /// Back-substitution sweeps done (Newton: its Krylov solves too).
+        solves: u32,
+        /// The limit: `solver.max_iterations` (newton: on its steps and its
+        /// solves), 4 times it on the retry before a stop.
+        limit: u32,
+        /// Last ratio.
+        ratio: f64,
+        /// The target.
+        epsilon: f64,
+        /// The history.
+        history: Vec<IterationRecord>,
+        /// The last iterate of a one-shot run (joint states, displacements),
+        /// for diagnosis; not an equilibrium.
+        last: Option<Box<Outcome>>,
+    },
+    /// Debonding did not settle within a load step.
+    #[error("the debonded points did not settle in {rounds} rounds of one load step")]
+    Rounds {
+        /// Rounds done.
+        rounds: u32,
+        /// The history.
+        history: Vec<IterationRecord>,
+    },
+    /// A harmonic or section setting that cannot work.
+    #[error("{0}")]
+    Setup(String),
+}
+
+impl IterationError {
+    /// The history up to the stop, if any.
+    pub fn history(&self) -> &[IterationRecord] {
+        match self {
+            IterationError::NoEquilibrium { history, .. }
+            | IterationError::NotConverged { history, .. }
+            | IterationError::StiffJoint { history, .. }
+            | IterationError::Rounds { history, .. } => history,
+            IterationError::Setup(_) => &[],
+        }
+    }
+
+    /// The last iterate, if the error carries one.
+    pub fn last(&self) -> Option<&Outcome> {
+        match self {
+            IterationError::NoEquilibrium { last, .. }
+            | IterationError::NotConverged { last, .. }
+            | IterationError::StiffJoint { last, .. } => last.as_deref(),
+            _ => None,
+        }
+    }
+
+    /// With the last iterate `outcome`.
+    pub(super) fn with_last(mut self, outcome: Outcome) -> Self {
+        if let IterationError::NoEquilibrium { last, .. }
+        | IterationError::NotConverged { last, .. }
+        | IterationError::StiffJoint { last, .. } = &mut self
+        {
+            *last = Some(Box::new(outcome));
+        }
+        self
+    }
+
+    /// Puts `earlier` records (e.g. earlier rounds of a step) before the history.
+    pub(super) fn prepend_history(&mut self, earlier: &[IterationRecord]) {
+        if let IterationError::NoEquilibrium { history, .. }
+        | IterationError::NotConverged { history, .. }
+        | IterationError::StiffJoint { history, .. }
+        | IterationError::Rounds { history, .. } = self
+        {
+            history.splice(0..0, earlier.iter().copied());
+        }
+    }
+}
+
+/// The back-substitution sweeps of `history` (all harmonics' solves).
+pub(super) fn solves(history: &[IterationRecord]) -> u32 {
+    history.iter().map(|r| r.solves).sum()
+}
