@@ -3,7 +3,7 @@
 
 use super::types::{role, type_info, Role};
 use super::{dim_word, MshFile, MshFormat, RawElement};
-use crate::{Body, Cell, CurveSet, Edge, Mesh, MeshError, PointSet};
+use crate::{Body, Cell, CurveSet, Edge, EdgeKind, Mesh, MeshError, PointSet};
 use std::collections::{BTreeMap, HashMap, HashSet};
 use std::path::Path;
 
@@ -138,24 +138,57 @@ impl MshFile {
     /// does not define, a cell in zero or two bodies, a node off the z = 0
     /// plane, two groups of one dimension with one name.
     pub fn to_mesh(&self, path: &Path) -> Result<Mesh, MeshError> {
-        let parse_error = |line: usize, message: String| MeshError::Parse {
-            path: path.to_path_buf(),
-            line,
-            message,
-        };
-        let invalid = |message: String| MeshError::Invalid {
-            path: path.to_path_buf(),
-            message,
-        };
-        let [point_groups, curve_groups, surface_groups] = physical_groups(self, path)?;
+        let mut builder = Builder::new(self, path)?;
+        for (el_index, el) in self.elements.iter().enumerate() {
+            builder.add_element(el_index, el)?;
+        }
+        builder.finish()
+    }
+}
+
+/// A [`MeshError::Parse`] at `line` of the file at `path`.
+fn parse_error(path: &Path, line: usize, message: String) -> MeshError {
+    MeshError::Parse {
+        path: path.to_path_buf(),
+        line,
+        message,
+    }
+}
+
+/// A [`MeshError::Invalid`] about the file at `path`.
+fn invalid(path: &Path, message: String) -> MeshError {
+    MeshError::Invalid {
+        path: path.to_path_buf(),
+        message,
+    }
+}
+
+/// The mesh of one [`MshFile`] while its elements are read.
+struct Builder<'f> {
+    msh: &'f MshFile,
+    path: &'f Path,
+    /// Nodes still index into `msh.nodes` until [`Builder::finish`].
+    mesh: Mesh,
+    /// Physical tag -> index of the body, curve set, point set.
+    body_of: HashMap<i32, usize>,
+    curve_of: HashMap<i32, usize>,
+    point_of: HashMap<i32, usize>,
+    file_index: TagIndex,
+    /// `user[i]`: the first kept element using node i (for messages).
+    user: Vec<Option<&'f RawElement>>,
+    /// The last element added to each curve set.
+    curve_last: Vec<Option<usize>>,
+    /// (set, node) of point sets.
+    point_members: HashSet<(usize, usize)>,
+}
+
+impl<'f> Builder<'f> {
+    /// The physical groups as empty bodies and sets, and the node tag index.
+    fn new(msh: &'f MshFile, path: &'f Path) -> Result<Self, MeshError> {
+        let [point_groups, curve_groups, surface_groups] = physical_groups(msh, path)?;
         let index_of =
             |g: &Groups| -> HashMap<i32, usize> { g.keys().enumerate().map(|(i, &t)| (t, i)).collect() };
-        let (body_of, curve_of, point_of) = (
-            index_of(&surface_groups),
-            index_of(&curve_groups),
-            index_of(&point_groups),
-        );
-        let mut mesh = Mesh {
+        let mesh = Mesh {
             bodies: surface_groups
                 .iter()
                 .map(|(&tag, name)| Body {
@@ -181,154 +214,196 @@ impl MshFile {
                 .collect(),
             ..Mesh::default()
         };
+        let file_index = TagIndex::new(&msh.nodes)
+            .map_err(|tag| invalid(path, format!("node tag {tag} is defined twice")))?;
+        Ok(Builder {
+            msh,
+            path,
+            body_of: index_of(&surface_groups),
+            curve_of: index_of(&curve_groups),
+            point_of: index_of(&point_groups),
+            file_index,
+            user: vec![None; msh.nodes.len()],
+            curve_last: vec![None; mesh.curves.len()],
+            point_members: HashSet::new(),
+            mesh,
+        })
+    }
 
-        let file_index =
-            TagIndex::new(&self.nodes).map_err(|tag| invalid(format!("node tag {tag} is defined twice")))?;
-        // Node indices below are into `self.nodes` until the renumbering.
-        // `user[i]`: the first kept element using node i (for messages).
-        let mut user: Vec<Option<&RawElement>> = vec![None; self.nodes.len()];
-        // The last element added to each curve set; (set, node) of point sets.
-        let mut curve_last: Vec<Option<usize>> = vec![None; mesh.curves.len()];
-        let mut point_members: HashSet<(usize, usize)> = HashSet::new();
-        for (el_index, el) in self.elements.iter().enumerate() {
-            let Some(role) = role(el.gmsh_type) else {
-                let what = type_info(el.gmsh_type).map_or("unknown", |i| i.name);
+    /// Adds element `el_index` as a cell, a curve edge or point set nodes.
+    fn add_element(&mut self, el_index: usize, el: &'f RawElement) -> Result<(), MeshError> {
+        let Some(role) = role(el.gmsh_type) else {
+            let what = type_info(el.gmsh_type).map_or("unknown", |i| i.name);
+            return Err(parse_error(
+                self.path,
+                el.line,
+                format!(
+                    "{} has unsupported gmsh element type {} ({what}); axijoint reads \
+                     triangles (2, 9), quadrangles (3, 16, 10), lines (1, 8) and points (15)",
+                    describe(el),
+                    el.gmsh_type
+                ),
+            ));
+        };
+        let nodes = self.element_nodes(el, role)?;
+        let keep = match role {
+            Role::Cell(kind) => {
+                let body = self.cell_body(el)?;
+                self.mesh.cells.push(Cell {
+                    kind,
+                    nodes: nodes.clone(),
+                    body,
+                    tag: el.tag,
+                    entity: el.entity_tag,
+                });
+                true
+            }
+            Role::Edge(kind) => self.add_edge(el_index, el, kind, &nodes),
+            Role::Point => self.add_point(el, &nodes),
+        };
+        if keep {
+            for &i in &nodes {
+                if let Some(u) = self.user.get_mut(i) {
+                    u.get_or_insert(el);
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The element's nodes as indices into `msh.nodes`, checking their count.
+    fn element_nodes(&self, el: &RawElement, role: Role) -> Result<Vec<usize>, MeshError> {
+        let expected = match role {
+            Role::Cell(k) => k.n_nodes(),
+            Role::Edge(k) => k.n_nodes(),
+            Role::Point => 1,
+        };
+        if el.nodes.len() != expected {
+            return Err(parse_error(
+                self.path,
+                el.line,
+                format!(
+                    "{} has {} nodes, its type needs {expected}",
+                    describe(el),
+                    el.nodes.len()
+                ),
+            ));
+        }
+        let mut nodes = Vec::with_capacity(expected);
+        for &n in &el.nodes {
+            let Some(i) = self.file_index.get(n) else {
                 return Err(parse_error(
+                    self.path,
                     el.line,
                     format!(
-                        "{} has unsupported gmsh element type {} ({what}); axijoint reads \
-                         triangles (2, 9), quadrangles (3, 16, 10), lines (1, 8) and points (15)",
-                        describe(el),
-                        el.gmsh_type
+                        "{} references node {n}, which $Nodes does not define",
+                        describe(el)
                     ),
                 ));
             };
-            let expected = match role {
-                Role::Cell(k) => k.n_nodes(),
-                Role::Edge(k) => k.n_nodes(),
-                Role::Point => 1,
-            };
-            if el.nodes.len() != expected {
-                return Err(parse_error(
-                    el.line,
-                    format!(
-                        "{} has {} nodes, its type needs {expected}",
-                        describe(el),
-                        el.nodes.len()
-                    ),
-                ));
-            }
-            let mut nodes = Vec::with_capacity(expected);
-            for &n in &el.nodes {
-                let Some(i) = file_index.get(n) else {
-                    return Err(parse_error(
-                        el.line,
-                        format!(
-                            "{} references node {n}, which $Nodes does not define",
-                            describe(el)
-                        ),
-                    ));
-                };
-                nodes.push(i);
-            }
-            let node_indices = nodes.clone();
-            let mut keep = false;
-            match role {
-                Role::Cell(kind) => {
-                    // Up to two distinct bodies: one is right, two is enough to refuse.
-                    let mut bodies: Vec<usize> = Vec::with_capacity(2);
-                    for t in &el.physical_tags {
-                        if let Some(&b) = body_of.get(t) {
-                            if !bodies.contains(&b) {
-                                bodies.push(b);
-                                if bodies.len() == 2 {
-                                    break;
-                                }
-                            }
-                        }
-                    }
-                    let body = match bodies.as_slice() {
-                        [b] => *b,
-                        [] => {
-                            let hint = if self.entities.is_empty() && self.format != MshFormat::V22Ascii {
-                                "the file has no $Entities section, so no physical groups"
-                            } else {
-                                "every cell must belong to one body: add its surface to a Physical Surface"
-                            };
-                            return Err(invalid(format!(
-                                "{} is in no physical surface ({hint})",
-                                describe(el)
-                            )));
-                        }
-                        several => {
-                            let names: Vec<String> = several
-                                .iter()
-                                .filter_map(|&b| mesh.bodies.get(b))
-                                .map(|b| format!("'{}' ({})", b.name, b.tag))
-                                .collect();
-                            return Err(invalid(format!(
-                                "{} is in more than one physical surface, {}: a cell belongs to \
-                                 exactly one body",
-                                describe(el),
-                                names.join(" and ")
-                            )));
-                        }
-                    };
-                    mesh.cells.push(Cell {
-                        kind,
-                        nodes,
-                        body,
-                        tag: el.tag,
-                        entity: el.entity_tag,
-                    });
-                    keep = true;
-                }
-                Role::Edge(kind) => {
-                    for t in &el.physical_tags {
-                        let Some(&c) = curve_of.get(t) else { continue };
-                        // A tag listed twice adds the edge once.
-                        if curve_last.get(c) == Some(&Some(el_index)) {
-                            continue;
-                        }
-                        if let (Some(set), Some(last)) = (mesh.curves.get_mut(c), curve_last.get_mut(c)) {
-                            *last = Some(el_index);
-                            set.edges.push(Edge {
-                                kind,
-                                nodes: nodes.clone(),
-                                tag: el.tag,
-                                entity: el.entity_tag,
-                            });
-                            keep = true;
-                        }
-                    }
-                }
-                Role::Point => {
-                    for t in &el.physical_tags {
-                        let Some(&p) = point_of.get(t) else { continue };
-                        if let Some(set) = mesh.points.get_mut(p) {
-                            for &n in &nodes {
-                                if point_members.insert((p, n)) {
-                                    set.nodes.push(n);
-                                }
-                            }
-                            keep = true;
-                        }
-                    }
-                }
-            }
-            if keep {
-                for &i in &node_indices {
-                    if let Some(u) = user.get_mut(i) {
-                        u.get_or_insert(el);
+            nodes.push(i);
+        }
+        Ok(nodes)
+    }
+
+    /// The one body of a cell, from its physical tags.
+    fn cell_body(&self, el: &RawElement) -> Result<usize, MeshError> {
+        // Up to two distinct bodies: one is right, two is enough to refuse.
+        let mut bodies: Vec<usize> = Vec::with_capacity(2);
+        for t in &el.physical_tags {
+            if let Some(&b) = self.body_of.get(t) {
+                if !bodies.contains(&b) {
+                    bodies.push(b);
+                    if bodies.len() == 2 {
+                        break;
                     }
                 }
             }
         }
+        match bodies.as_slice() {
+            [b] => Ok(*b),
+            [] => {
+                let hint = if self.msh.entities.is_empty() && self.msh.format != MshFormat::V22Ascii {
+                    "the file has no $Entities section, so no physical groups"
+                } else {
+                    "every cell must belong to one body: add its surface to a Physical Surface"
+                };
+                Err(invalid(
+                    self.path,
+                    format!("{} is in no physical surface ({hint})", describe(el)),
+                ))
+            }
+            several => {
+                let names: Vec<String> = several
+                    .iter()
+                    .filter_map(|&b| self.mesh.bodies.get(b))
+                    .map(|b| format!("'{}' ({})", b.name, b.tag))
+                    .collect();
+                Err(invalid(
+                    self.path,
+                    format!(
+                        "{} is in more than one physical surface, {}: a cell belongs to \
+                         exactly one body",
+                        describe(el),
+                        names.join(" and ")
+                    ),
+                ))
+            }
+        }
+    }
 
-        // Renumber the used nodes from 0, in file order.
-        let mut new_index = vec![usize::MAX; self.nodes.len()];
+    /// Adds a line element to each curve set of its physical tags; true if any.
+    fn add_edge(&mut self, el_index: usize, el: &RawElement, kind: EdgeKind, nodes: &[usize]) -> bool {
+        let mut keep = false;
+        for t in &el.physical_tags {
+            let Some(&c) = self.curve_of.get(t) else { continue };
+            // A tag listed twice adds the edge once.
+            if self.curve_last.get(c) == Some(&Some(el_index)) {
+                continue;
+            }
+            if let (Some(set), Some(last)) = (self.mesh.curves.get_mut(c), self.curve_last.get_mut(c)) {
+                *last = Some(el_index);
+                set.edges.push(Edge {
+                    kind,
+                    nodes: nodes.to_vec(),
+                    tag: el.tag,
+                    entity: el.entity_tag,
+                });
+                keep = true;
+            }
+        }
+        keep
+    }
+
+    /// Adds a point element's node to each point set of its physical tags; true if any.
+    fn add_point(&mut self, el: &RawElement, nodes: &[usize]) -> bool {
+        let mut keep = false;
+        for t in &el.physical_tags {
+            let Some(&p) = self.point_of.get(t) else { continue };
+            if let Some(set) = self.mesh.points.get_mut(p) {
+                for &n in nodes {
+                    if self.point_members.insert((p, n)) {
+                        set.nodes.push(n);
+                    }
+                }
+                keep = true;
+            }
+        }
+        keep
+    }
+
+    /// Renumbers the used nodes from 0, in file order, after checking z = 0.
+    fn finish(self) -> Result<Mesh, MeshError> {
+        let Builder {
+            msh,
+            path,
+            mut mesh,
+            user,
+            ..
+        } = self;
+        let mut new_index = vec![usize::MAX; msh.nodes.len()];
         let mut extent: f64 = 0.0;
-        for (i, &(tag, [x, y, _])) in self.nodes.iter().enumerate() {
+        for (i, &(tag, [x, y, _])) in msh.nodes.iter().enumerate() {
             if user.get(i).is_some_and(Option::is_some) {
                 if let Some(slot) = new_index.get_mut(i) {
                     *slot = mesh.nodes.len();
@@ -338,13 +413,16 @@ impl MshFile {
                 extent = extent.max(x.abs()).max(y.abs());
             }
         }
-        for (&(tag, [x, y, z]), el) in self.nodes.iter().zip(&user) {
+        for (&(tag, [x, y, z]), el) in msh.nodes.iter().zip(&user) {
             if let (Some(el), true) = (el, z.abs() > Z_TOLERANCE * extent) {
-                return Err(invalid(format!(
-                    "node {tag} at ({x:?}, {y:?}, {z:?}), used by {}, is off the z = 0 plane: the \
-                     mesh must lie in the meridional plane (gmsh x = r, y = z, z = 0)",
-                    describe(el)
-                )));
+                return Err(invalid(
+                    path,
+                    format!(
+                        "node {tag} at ({x:?}, {y:?}, {z:?}), used by {}, is off the z = 0 plane: the \
+                         mesh must lie in the meridional plane (gmsh x = r, y = z, z = 0)",
+                        describe(el)
+                    ),
+                ));
             }
         }
         let renumber = |nodes: &mut Vec<usize>| {

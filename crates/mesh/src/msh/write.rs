@@ -105,7 +105,6 @@ impl EntityTable {
 /// Errors: [`io::ErrorKind::InvalidInput`] for a coordinate that is not
 /// finite or nodes without any element, and the writer's errors.
 pub fn write_msh41(mesh: &Mesh, w: &mut impl Write) -> io::Result<()> {
-    let invalid = |m: String| io::Error::new(io::ErrorKind::InvalidInput, m);
     if let Some(k) = mesh.nodes.iter().position(|p| !p.iter().all(|v| v.is_finite())) {
         return Err(invalid(format!(
             "node {} has a coordinate that is not finite ({:?})",
@@ -113,9 +112,59 @@ pub fn write_msh41(mesh: &Mesh, w: &mut impl Write) -> io::Result<()> {
         )));
     }
     let joint_curves: HashSet<&str> = mesh.joints.iter().map(|j| j.name.as_str()).collect();
+    let (names, joint_tags) = physical_names(mesh, &joint_curves);
+    let (points, point_blocks) = point_entities(mesh);
+    let (curves, curve_blocks) = curve_entities(mesh, &joint_curves);
+    let (surfaces, surface_blocks, mut owner) = surface_entities(mesh, &joint_tags);
+    let entities = Entities {
+        points,
+        curves,
+        surfaces,
+    };
+    complete_owners(&mut owner, &entities)?;
 
-    // Physical groups: (dim, tag, name).
-    let mut names: Vec<(i32, i32, String)> = Vec::new();
+    write_physical_names(w, &names)?;
+    write_entities(w, mesh, &entities)?;
+    write_nodes(w, mesh, &owner, &entities)?;
+    write_elements(
+        w,
+        [(2, &surface_blocks), (1, &curve_blocks), (0, &point_blocks)],
+        &entities,
+    )
+}
+
+/// An [`io::ErrorKind::InvalidInput`] error.
+fn invalid(m: String) -> io::Error {
+    io::Error::new(io::ErrorKind::InvalidInput, m)
+}
+
+/// A physical group: `(dim, tag, name)`.
+type Name = (i32, i32, String);
+
+/// The entity of each node, `(dim, entity index)`, where known.
+type Owners = Vec<Option<(i32, usize)>>;
+
+/// The point, curve and surface entities of the file.
+struct Entities {
+    points: EntityTable,
+    curves: EntityTable,
+    surfaces: EntityTable,
+}
+
+impl Entities {
+    /// The tag of entity `e` of dimension `dim`.
+    fn tag_of(&self, (dim, e): (i32, usize)) -> i32 {
+        match dim {
+            0 => self.points.entities[e].tag,
+            1 => self.curves.entities[e].tag,
+            _ => self.surfaces.entities[e].tag,
+        }
+    }
+}
+
+/// The physical groups (points, non-joint curves, bodies, joints) and the joints' tags.
+fn physical_names(mesh: &Mesh, joint_curves: &HashSet<&str>) -> (Vec<Name>, Vec<i32>) {
+    let mut names: Vec<Name> = Vec::new();
     names.extend(mesh.points.iter().map(|p| (0, p.tag, p.name.clone())));
     names.extend(
         mesh.curves
@@ -135,8 +184,11 @@ pub fn write_msh41(mesh: &Mesh, w: &mut impl Write) -> io::Result<()> {
         names.push((2, tag, name));
         joint_tags.push(tag);
     }
+    (names, joint_tags)
+}
 
-    // Point entities: one per node of a point group.
+/// Point entities and their elements: one per node of a point group.
+fn point_entities(mesh: &Mesh) -> (EntityTable, Blocks) {
     let mut points = EntityTable::default();
     let mut point_blocks: Blocks = Vec::new();
     let mut point_groups: BTreeMap<usize, Vec<i32>> = BTreeMap::new();
@@ -153,9 +205,11 @@ pub fn write_msh41(mesh: &Mesh, w: &mut impl Write) -> io::Result<()> {
         points.entities[e].nodes.push(n);
         push_element(&mut point_blocks, e, element_type::POINT, vec![n]);
     }
+    (points, point_blocks)
+}
 
-    // Curve entities: each line element once, with every (non-joint) curve
-    // it belongs to.
+/// Curve entities and their elements: each line element once, with every non-joint curve it is in.
+fn curve_entities(mesh: &Mesh, joint_curves: &HashSet<&str>) -> (EntityTable, Blocks) {
     let mut edges: Vec<(i32, EdgeKind, Vec<usize>, Vec<i32>)> = Vec::new();
     let mut edge_index: HashMap<(u64, Vec<usize>), usize> = HashMap::new();
     for set in mesh
@@ -183,11 +237,14 @@ pub fn write_msh41(mesh: &Mesh, w: &mut impl Write) -> io::Result<()> {
         curves.entities[e].nodes.extend(&nodes);
         push_element(&mut curve_blocks, e, element_type::of_edge(kind), nodes);
     }
+    (curves, curve_blocks)
+}
 
-    // Surface entities: the cells', then one per joint.
+/// Surface entities and elements (the cells', then one per joint); each node's first cell entity.
+fn surface_entities(mesh: &Mesh, joint_tags: &[i32]) -> (EntityTable, Blocks, Owners) {
     let mut surfaces = EntityTable::default();
     let mut surface_blocks: Blocks = Vec::new();
-    let mut owner: Vec<Option<(i32, usize)>> = vec![None; mesh.nodes.len()];
+    let mut owner: Owners = vec![None; mesh.nodes.len()];
     for cell in &mesh.cells {
         let e = surfaces.get(cell.entity, vec![mesh.bodies[cell.body].tag]);
         surfaces.entities[e].nodes.extend(&cell.nodes);
@@ -201,7 +258,7 @@ pub fn write_msh41(mesh: &Mesh, w: &mut impl Write) -> io::Result<()> {
             cell.nodes.clone(),
         );
     }
-    for (joint, &tag) in mesh.joints.iter().zip(&joint_tags) {
+    for (joint, &tag) in mesh.joints.iter().zip(joint_tags) {
         let e = surfaces.add(vec![tag]);
         for el in &joint.elements {
             for q in joint_quads(el.kind, &el.bottom, &el.top) {
@@ -210,9 +267,12 @@ pub fn write_msh41(mesh: &Mesh, w: &mut impl Write) -> io::Result<()> {
             }
         }
     }
+    (surfaces, surface_blocks, owner)
+}
 
-    // Nodes in no cell belong to the first entity that uses them.
-    for (dim, table) in [(1, &curves), (0, &points)] {
+/// Nodes in no cell belong to the first curve, else point, entity using them; none is an error.
+fn complete_owners(owner: &mut Owners, entities: &Entities) -> io::Result<()> {
+    for (dim, table) in [(1, &entities.curves), (0, &entities.points)] {
         for (e, entity) in table.entities.iter().enumerate() {
             for &n in &entity.nodes {
                 owner[n].get_or_insert((dim, e));
@@ -222,24 +282,39 @@ pub fn write_msh41(mesh: &Mesh, w: &mut impl Write) -> io::Result<()> {
     if let Some(n) = owner.iter().position(Option::is_none) {
         return Err(invalid(format!("node {n} belongs to no element")));
     }
+    Ok(())
+}
 
-    let tag_of = |(dim, e): (i32, usize)| match dim {
-        0 => points.entities[e].tag,
-        1 => curves.entities[e].tag,
-        _ => surfaces.entities[e].tag,
-    };
-
+/// Writes `$MeshFormat` and `$PhysicalNames` (quotes and control characters as `_`).
+fn write_physical_names(w: &mut impl Write, names: &[Name]) -> io::Result<()> {
     writeln!(w, "$MeshFormat\n4.1 0 8\n$EndMeshFormat")?;
     writeln!(w, "$PhysicalNames\n{}", names.len())?;
-    for (dim, tag, name) in &names {
+    for (dim, tag, name) in names {
         let name: String = name
             .chars()
             .map(|c| if c == '"' || c.is_control() { '_' } else { c })
             .collect();
         writeln!(w, "{dim} {tag} \"{name}\"")?;
     }
-    writeln!(w, "$EndPhysicalNames")?;
+    writeln!(w, "$EndPhysicalNames")
+}
 
+/// An entity's physical tags as written: their count, then each.
+fn physical(e: &Entity) -> String {
+    let mut s = e.physical.len().to_string();
+    for t in &e.physical {
+        s.push_str(&format!(" {t}"));
+    }
+    s
+}
+
+/// Writes `$Entities`: points at their node, curves and surfaces with their bounding box.
+fn write_entities(w: &mut impl Write, mesh: &Mesh, entities: &Entities) -> io::Result<()> {
+    let Entities {
+        points,
+        curves,
+        surfaces,
+    } = entities;
     writeln!(w, "$Entities")?;
     writeln!(
         w,
@@ -248,13 +323,6 @@ pub fn write_msh41(mesh: &Mesh, w: &mut impl Write) -> io::Result<()> {
         curves.entities.len(),
         surfaces.entities.len()
     )?;
-    let physical = |e: &Entity| {
-        let mut s = e.physical.len().to_string();
-        for t in &e.physical {
-            s.push_str(&format!(" {t}"));
-        }
-        s
-    };
     for e in &points.entities {
         let p = mesh.nodes[e.nodes[0]];
         writeln!(w, "{} {:?} {:?} 0 {}", e.tag, p[0], p[1], physical(e))?;
@@ -278,9 +346,11 @@ pub fn write_msh41(mesh: &Mesh, w: &mut impl Write) -> io::Result<()> {
             physical(e)
         )?;
     }
-    writeln!(w, "$EndEntities")?;
+    writeln!(w, "$EndEntities")
+}
 
-    // Nodes: in mesh order, one block per run of nodes of one entity.
+/// Writes `$Nodes`: in mesh order, one block per run of nodes of one entity.
+fn write_nodes(w: &mut impl Write, mesh: &Mesh, owner: &Owners, entities: &Entities) -> io::Result<()> {
     let mut runs: Vec<((i32, usize), std::ops::Range<usize>)> = Vec::new();
     for (n, o) in owner.iter().enumerate() {
         let o = o.unwrap_or((2, 0));
@@ -292,7 +362,7 @@ pub fn write_msh41(mesh: &Mesh, w: &mut impl Write) -> io::Result<()> {
     let n_nodes = mesh.nodes.len();
     writeln!(w, "$Nodes\n{} {n_nodes} {} {n_nodes}", runs.len(), n_nodes.min(1))?;
     for ((dim, e), range) in &runs {
-        writeln!(w, "{dim} {} 0 {}", tag_of((*dim, *e)), range.len())?;
+        writeln!(w, "{dim} {} 0 {}", entities.tag_of((*dim, *e)), range.len())?;
         for n in range.clone() {
             writeln!(w, "{}", n + 1)?;
         }
@@ -300,9 +370,11 @@ pub fn write_msh41(mesh: &Mesh, w: &mut impl Write) -> io::Result<()> {
             writeln!(w, "{:?} {:?} 0", mesh.nodes[n][0], mesh.nodes[n][1])?;
         }
     }
-    writeln!(w, "$EndNodes")?;
+    writeln!(w, "$EndNodes")
+}
 
-    let all: [(i32, &Blocks); 3] = [(2, &surface_blocks), (1, &curve_blocks), (0, &point_blocks)];
+/// Writes `$Elements`: the blocks of each dimension in the order given, numbered from 1.
+fn write_elements(w: &mut impl Write, all: [(i32, &Blocks); 3], entities: &Entities) -> io::Result<()> {
     let n_blocks: usize = all.iter().map(|(_, b)| b.len()).sum();
     let n_elements: usize = all.iter().flat_map(|(_, b)| b.iter()).map(|b| b.2.len()).sum();
     writeln!(
@@ -313,7 +385,12 @@ pub fn write_msh41(mesh: &Mesh, w: &mut impl Write) -> io::Result<()> {
     let mut id = 0usize;
     for (dim, blocks) in all {
         for (e, gmsh_type, elements) in blocks {
-            writeln!(w, "{dim} {} {gmsh_type} {}", tag_of((dim, *e)), elements.len())?;
+            writeln!(
+                w,
+                "{dim} {} {gmsh_type} {}",
+                entities.tag_of((dim, *e)),
+                elements.len()
+            )?;
             for nodes in elements {
                 id += 1;
                 write!(w, "{id}")?;
@@ -324,6 +401,5 @@ pub fn write_msh41(mesh: &Mesh, w: &mut impl Write) -> io::Result<()> {
             }
         }
     }
-    writeln!(w, "$EndElements")?;
-    Ok(())
+    writeln!(w, "$EndElements")
 }
