@@ -97,8 +97,8 @@ pub struct CellValues {
     x: Vec<[f64; 2]>,
     /// `det J` at each point (after reinit).
     det: Vec<f64>,
-    /// Diagonal of the cell's bounding box (after reinit).
-    size: f64,
+    /// Sides of the cell's bounding box (after reinit).
+    extent: [f64; 2],
 }
 
 impl CellValues {
@@ -114,7 +114,7 @@ impl CellValues {
             dn: Vec::new(),
             x: Vec::new(),
             det: Vec::new(),
-            size: 0.0,
+            extent: [0.0; 2],
         };
         values.tabulate(kind, rule);
         values
@@ -176,7 +176,7 @@ impl CellValues {
             self.x[q] = x;
             self.det[q] = det;
         }
-        self.size = cell_size(coords);
+        self.extent = cell_extent(coords);
         self.check()
     }
 
@@ -203,60 +203,71 @@ impl CellValues {
     }
 
     /// The cell kind of the tables.
+    #[inline]
     pub fn kind(&self) -> CellKind {
         self.kind
     }
 
     /// The integration rule.
+    #[inline]
     pub fn rule(&self) -> Rule2D {
         self.rule
     }
 
     /// The number of points.
+    #[inline]
     pub fn n_points(&self) -> usize {
         self.rule.len()
     }
 
     /// `N_i` at point `q`, `kind.n_nodes()` values.
+    #[inline]
     pub fn n(&self, q: usize) -> &[f64] {
         &self.n[q * self.nn..(q + 1) * self.nn]
     }
 
     /// `[dN_i/dr, dN_i/dz]` at point `q`.
+    #[inline]
     pub fn dn(&self, q: usize) -> &[[f64; 2]] {
         &self.dn[q * self.nn..(q + 1) * self.nn]
     }
 
     /// The radius `r = sum_i N_i r_i` of point `q`.
+    #[inline]
     pub fn r(&self, q: usize) -> f64 {
         self.x[q][0]
     }
 
     /// The position `(r, z)` of point `q`.
+    #[inline]
     pub fn position(&self, q: usize) -> [f64; 2] {
         self.x[q]
     }
 
     /// `det J` at point `q` (negative for a clockwise cell).
+    #[inline]
     pub fn det(&self, q: usize) -> f64 {
         self.det[q]
     }
 
     /// The rule's weight `w_q` of point `q`.
+    #[inline]
     pub fn w_gauss(&self, q: usize) -> f64 {
         self.rule.weights[q]
     }
 
     /// `w = w_q |det J|` at point `q`: the area element, neither `r` nor
     /// `c_m` in it.
+    #[inline]
     pub fn weight(&self, q: usize) -> f64 {
         self.rule.weights[q] * self.det[q].abs()
     }
 
     /// The diagonal of the cell's bounding box (the length scale of the
     /// on-axis test of the strains).
+    #[inline]
     pub fn size(&self) -> f64 {
-        self.size
+        self.extent[0].hypot(self.extent[1])
     }
 }
 
@@ -275,8 +286,9 @@ pub(crate) fn map_point(
     (interpolate(coords, n), det)
 }
 
-/// The diagonal of the bounding box of `coords`.
-pub(crate) fn cell_size(coords: &[[f64; 2]]) -> f64 {
+/// The sides `(dr, dz)` of the bounding box of `coords`; its diagonal is
+/// `dr.hypot(dz)`.
+pub(crate) fn cell_extent(coords: &[[f64; 2]]) -> [f64; 2] {
     let (lo, hi) = coords
         .iter()
         .fold(([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]), |(lo, hi), x| {
@@ -285,5 +297,5 @@ pub(crate) fn cell_size(coords: &[[f64; 2]]) -> f64 {
                 [hi[0].max(x[0]), hi[1].max(x[1])],
             )
         });
-    (hi[0] - lo[0]).hypot(hi[1] - lo[1])
+    [hi[0] - lo[0], hi[1] - lo[1]]
 }

@@ -24,8 +24,12 @@
 //!
 //! m = 0 is the axisymmetric problem (u, v) plus torsion (w): the same
 //! formulas with m = 0.
+//!
+//! Every Gauss loop here runs over a [`CellValues`] (`N`, `dN`, `r`, `det J`
+//! at the rule's points, mapped once per cell); [`StrainPoint`] is the same
+//! per-point step at one arbitrary point.
 
-use crate::elements::cell_values::{cell_size, map_point, CellValues};
+use crate::elements::cell_values::{cell_extent, map_point, CellValues};
 use crate::elements::{c_m, zero_matrix, DOF_PER_NODE};
 use crate::material::Elastic;
 use axijoint_mesh::quadrature::Rule2D;
@@ -81,10 +85,10 @@ pub fn b_matrix_on_axis(m: u32, dn_drz: &[[f64; 2]], out: &mut DMatrix<f64>) {
     fill_b(m, dn_drz, |i| dn_drz[i][0], out);
 }
 
-/// Per-kind workspace of [`solid_stiffness`]: the [`CellValues`] of the
-/// kind's [`default_rule`]. Build it once and reuse it for every element;
-/// nothing is allocated per element or per Gauss point (only when the kind
-/// changes).
+/// Workspace of [`solid_stiffness`]: the [`CellValues`] of the kind's
+/// [`default_rule`]. Build it once and reuse it for every element; nothing
+/// is allocated per element or per Gauss point (a change of kind reuses the
+/// buffers, growing them if needed).
 #[derive(Clone, Debug)]
 pub struct SolidScratch {
     values: CellValues,
@@ -144,8 +148,8 @@ fn ring_weight(values: &CellValues, q: usize, c: f64) -> f64 {
 /// constraints imposed at assembly). `coords` are the `kind.n_nodes()` nodes
 /// in gmsh order; `|det J|` makes either orientation work. `out` is
 /// resized to 3n x 3n if needed and overwritten; the result is exactly
-/// symmetric. If `scratch` is for another kind it is rebuilt. The products
-/// are taken node block by node block in closed form (`each_block`).
+/// symmetric. If `scratch` is for another kind it is switched. The products
+/// are taken node block by node block in closed form (`each_point_block`).
 ///
 /// # Panics
 /// If the cell is degenerate or folded at a Gauss point ([`CellError`]).
@@ -173,63 +177,56 @@ pub fn solid_stiffness(
 }
 
 /// The Gauss loop of the stiffness: `f(weight, a, b, t)` for every point
-/// and node pair `a <= b`, weight [`ring_weight`] with factor `c`, `t` the
-/// parts of [`each_block`].
+/// and node pair `a <= b`, the weight [`ring_weight`] with factor `c`, `t`
+/// the parts `t[0] + m t[1] + m^2 t[2]` of the 3 x 3 block `B_a^T D B_b`
+/// there (`N`, `dN/dr`, `dN/dz`, `h = N / r`), in closed form for the
+/// isotropic `D` (lambda, G, A = lambda + 2 G) and the `B` of the module
+/// doc: a fifth of the products of `B^T (D B)`.
 fn each_point_block(
     values: &CellValues,
     mat: &Elastic,
     c: f64,
     mut f: impl FnMut(f64, usize, usize, &[[[f64; 3]; 3]; 3]),
 ) {
-    for q in 0..values.n_points() {
-        let weight = ring_weight(values, q, c);
-        each_block(mat, values.n(q), values.dn(q), values.r(q), |a, b, t| {
-            f(weight, a, b, t)
-        });
-    }
-}
-
-/// The parts `t[0] + m t[1] + m^2 t[2]` of the 3 x 3 block `B_a^T D B_b` of
-/// nodes `a <= b` at one point (`N`, `dN/dr`, `dN/dz` given, `h = N / r`),
-/// in closed form for the isotropic `D` (lambda, G, A = lambda + 2 G) and
-/// the `B` of the module doc: a fifth of the products of `B^T (D B)`.
-fn each_block(
-    mat: &Elastic,
-    n: &[f64],
-    dn_rz: &[[f64; 2]],
-    r: f64,
-    mut f: impl FnMut(usize, usize, &[[[f64; 3]; 3]; 3]),
-) {
     let (l, g) = (mat.lame_lambda(), mat.shear_modulus());
     let a2 = l + 2.0 * g;
-    let nn = n.len();
-    for a in 0..nn {
-        let ([ra, za], ha) = (dn_rz[a], n[a] / r);
-        for b in a..nn {
-            let ([rb, zb], hb) = (dn_rz[b], n[b] / r);
-            let hh = ha * hb;
-            let t = [
-                [
+    for q in 0..values.n_points() {
+        let weight = ring_weight(values, q, c);
+        let (n, dn_rz, r) = (values.n(q), values.dn(q), values.r(q));
+        let nn = n.len();
+        // h_i = N_i / r, divided once per node rather than once per pair
+        let mut h = [0.0; MAX_CELL_NODES];
+        for (hi, ni) in h.iter_mut().zip(n) {
+            *hi = ni / r;
+        }
+        for a in 0..nn {
+            let ([ra, za], ha) = (dn_rz[a], h[a]);
+            for b in a..nn {
+                let ([rb, zb], hb) = (dn_rz[b], h[b]);
+                let hh = ha * hb;
+                let t = [
                     [
-                        ra * (a2 * rb + l * hb) + ha * (l * rb + a2 * hb) + g * za * zb,
-                        l * (ra + ha) * zb + g * za * rb,
-                        0.0,
+                        [
+                            ra * (a2 * rb + l * hb) + ha * (l * rb + a2 * hb) + g * za * zb,
+                            l * (ra + ha) * zb + g * za * rb,
+                            0.0,
+                        ],
+                        [l * za * (rb + hb) + g * ra * zb, a2 * za * zb + g * ra * rb, 0.0],
+                        [0.0, 0.0, g * ((ra - ha) * (rb - hb) + za * zb)],
                     ],
-                    [l * za * (rb + hb) + g * ra * zb, a2 * za * zb + g * ra * rb, 0.0],
-                    [0.0, 0.0, g * ((ra - ha) * (rb - hb) + za * zb)],
-                ],
-                [
-                    [0.0, 0.0, l * ra * hb + a2 * hh - g * ha * (rb - hb)],
-                    [0.0, 0.0, l * za * hb - g * ha * zb],
                     [
-                        l * ha * rb + a2 * hh - g * hb * (ra - ha),
-                        l * ha * zb - g * za * hb,
-                        0.0,
+                        [0.0, 0.0, l * ra * hb + a2 * hh - g * ha * (rb - hb)],
+                        [0.0, 0.0, l * za * hb - g * ha * zb],
+                        [
+                            l * ha * rb + a2 * hh - g * hb * (ra - ha),
+                            l * ha * zb - g * za * hb,
+                            0.0,
+                        ],
                     ],
-                ],
-                [[g * hh, 0.0, 0.0], [0.0, g * hh, 0.0], [0.0, 0.0, a2 * hh]],
-            ];
-            f(a, b, &t);
+                    [[g * hh, 0.0, 0.0], [0.0, g * hh, 0.0], [0.0, 0.0, a2 * hh]],
+                ];
+                f(weight, a, b, &t);
+            }
         }
     }
 }
@@ -263,7 +260,7 @@ fn symmetrize(out: &mut DMatrix<f64>) {
 /// `K(m) = c_m (out[0] + m out[1] + m^2 out[2])`. `B = B(0) + m B_m`
 /// (module doc), where column j of `B_m` has one entry `beta_j` in row
 /// `rho_j`: `-N/r` in g_rth for u, `-N/r` in g_zth for v, `N/r` in e_th for
-/// w. Summed over the points with weight `f = w r |det J|`:
+/// w. Summed over the points with weight `f = r |det J| w_q`:
 ///
 /// ```text
 /// out[0] = B(0)^T D B(0) f
@@ -418,13 +415,14 @@ impl StrainPoint {
         kind.eval_dn(xi, &mut dn);
         let coords = &coords[..nn];
         let (x, det) = map_point(kind, coords, &n[..nn], &dn[..nn], &mut drz[..nn]);
+        let extent = cell_extent(coords);
         StrainPoint {
             nn,
             n,
             drz,
             x,
             det,
-            on_axis: on_axis(x[0], cell_size(coords)),
+            on_axis: on_axis(x[0], extent[0].hypot(extent[1])),
         }
     }
 
