@@ -19,10 +19,9 @@
 //! recovered value per body, so no jump between bodies is smoothed.
 
 use crate::field::{gather, Field, Locator};
-use axijoint_mesh::quadrature::default_rule;
 use axijoint_mesh::shapes::MAX_CELL_NODES;
 use axijoint_mesh::{CellKind, Mesh};
-use axijoint_solver::elements::{c_m, StrainPoint};
+use axijoint_solver::elements::{c_m, point_stress, CellValues, StrainPoint};
 use axijoint_solver::material::Elastic;
 use rayon::prelude::*;
 
@@ -104,8 +103,8 @@ pub struct Estimate {
     pub norm2: f64,
 }
 
-/// Gauss data of one cell: points `(r, z)`, weights `w |det J| r` and the
-/// element stress per mode at each point.
+/// Gauss data of one cell: points `(r, z)`, weights `w r` (`w = w_q |det J|`
+/// of [`CellValues`]) and the element stress per mode at each point.
 struct CellGauss {
     points: Vec<[f64; 2]>,
     weights: Vec<f64>,
@@ -129,28 +128,32 @@ impl Estimate {
         let gauss: Vec<CellGauss> = mesh
             .cells
             .par_iter()
-            .map(|c| {
-                let coords = mesh.cell_coords(c);
-                let nn = c.kind.n_nodes();
-                let mat = &field.materials[c.body];
-                let mut ue = [0.0; 3 * MAX_CELL_NODES];
-                let mut g = CellGauss {
-                    points: Vec::new(),
-                    weights: Vec::new(),
-                    stress: vec![Vec::new(); nm],
-                };
-                for (xi, w) in default_rule(c.kind).iter() {
-                    let point = StrainPoint::new(c.kind, &coords, xi);
-                    let x = point.position();
-                    g.points.push(x);
-                    g.weights.push(w * point.det().abs() * x[0]);
-                    for (k, md) in modes.iter().enumerate() {
-                        gather(&md.u, &c.nodes, &mut ue);
-                        g.stress[k].push(point.stress(mat, md.m, &ue[..3 * nn]));
+            .map_init(
+                || CellValues::with_default_rule(CellKind::Quad9),
+                |values, c| {
+                    let coords = mesh.cell_coords(c);
+                    if let Err(e) = values.reinit(c.kind, &coords) {
+                        panic!("{e} (mesh validation rejects such cells)");
                     }
-                }
-                g
-            })
+                    let nn = c.kind.n_nodes();
+                    let mat = &field.materials[c.body];
+                    let mut ue = [0.0; 3 * MAX_CELL_NODES];
+                    let mut g = CellGauss {
+                        points: Vec::new(),
+                        weights: Vec::new(),
+                        stress: vec![Vec::new(); nm],
+                    };
+                    for q in 0..values.n_points() {
+                        g.points.push(values.position(q));
+                        g.weights.push(values.weight(q) * values.r(q));
+                        for (k, md) in modes.iter().enumerate() {
+                            gather(&md.u, &c.nodes, &mut ue);
+                            g.stress[k].push(point_stress(values, q, mat, md.m, &ue[..3 * nn]));
+                        }
+                    }
+                    g
+                },
+            )
             .collect();
         let recovered = recover(mesh, &gauss, nm, &offsets);
         // Element errors and the norm.
@@ -158,35 +161,37 @@ impl Estimate {
             .cells
             .par_iter()
             .enumerate()
-            .map(|(cell, c)| {
-                let mat = &field.materials[c.body];
-                let nn = c.kind.n_nodes();
-                let mut n = [0.0; MAX_CELL_NODES];
-                let g = &gauss[cell];
-                let (mut error2, mut volume, mut norm2) = (0.0, 0.0, 0.0);
-                for (q, (xi, _)) in default_rule(c.kind).iter().enumerate() {
-                    c.kind.eval_n(xi, &mut n[..nn]);
-                    let w = g.weights[q];
-                    volume += 2.0 * std::f64::consts::PI * w;
-                    for (k, md) in modes.iter().enumerate() {
-                        let mut d = [0.0; 6];
-                        for (i, ni) in n[..nn].iter().enumerate() {
-                            let s = recovered[k][offsets[cell] + i];
-                            for a in 0..6 {
-                                d[a] += ni * s[a];
+            .map_init(
+                || CellValues::with_default_rule(CellKind::Quad9),
+                |values, (cell, c)| {
+                    // Only the shape values: no reinit.
+                    values.set_kind(c.kind);
+                    let mat = &field.materials[c.body];
+                    let g = &gauss[cell];
+                    let (mut error2, mut volume, mut norm2) = (0.0, 0.0, 0.0);
+                    for q in 0..values.n_points() {
+                        let w = g.weights[q];
+                        volume += 2.0 * std::f64::consts::PI * w;
+                        for (k, md) in modes.iter().enumerate() {
+                            let mut d = [0.0; 6];
+                            for (i, ni) in values.n(q).iter().enumerate() {
+                                let s = recovered[k][offsets[cell] + i];
+                                for a in 0..6 {
+                                    d[a] += ni * s[a];
+                                }
                             }
+                            let sh = g.stress[k][q];
+                            for a in 0..6 {
+                                d[a] -= sh[a];
+                            }
+                            let cm = c_m(md.m);
+                            error2 += cm * w * compliance_energy(mat, &d);
+                            norm2 += cm * w * compliance_energy(mat, &sh);
                         }
-                        let sh = g.stress[k][q];
-                        for a in 0..6 {
-                            d[a] -= sh[a];
-                        }
-                        let cm = c_m(md.m);
-                        error2 += cm * w * compliance_energy(mat, &d);
-                        norm2 += cm * w * compliance_energy(mat, &sh);
                     }
-                }
-                ((error2, volume), norm2)
-            })
+                    ((error2, volume), norm2)
+                },
+            )
             .unzip();
         let norm2 = cell_norm2.iter().sum();
         Estimate {
@@ -233,8 +238,6 @@ impl Estimate {
         let c = &mesh.cells[cell];
         let coords = mesh.cell_coords(c);
         let nn = c.kind.n_nodes();
-        let mut n = [0.0; MAX_CELL_NODES];
-        c.kind.eval_n(xi, &mut n[..nn]);
         let point = StrainPoint::new(c.kind, &coords, xi);
         let (mut rec, mut raw) = ([0.0; 6], [0.0; 6]);
         for (k, md) in self.modes.iter().enumerate() {
@@ -247,7 +250,7 @@ impl Estimate {
             let mut ue = [0.0; 3 * MAX_CELL_NODES];
             gather(&md.u, &c.nodes, &mut ue);
             let h = point.stress(&field.materials[c.body], md.m, &ue[..3 * nn]);
-            for (i, ni) in n[..nn].iter().enumerate() {
+            for (i, ni) in point.n().iter().enumerate() {
                 let s = self.recovered[k][self.offsets[cell] + i];
                 for q in 0..6 {
                     rec[q] += if q < 4 { a } else { b } * ni * s[q];

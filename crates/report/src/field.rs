@@ -200,13 +200,14 @@ impl Field<'_> {
     /// tau_ztheta)` at reference point `xi` of `cell`, angle `theta`, from
     /// the cell's own field (never averaged with a neighbour).
     pub fn stress(&self, cell: usize, xi: [f64; 2], theta: f64) -> [f64; 6] {
-        let mut out = self.stress_of(self.u, cell, xi, theta);
+        let point = self.point(cell, xi);
+        let mut out = self.stress_of(self.u, cell, &point, theta);
         if let Some(init) = &self.initial {
-            for (o, v) in out.iter_mut().zip(self.sigma0(init, cell, xi)) {
+            for (o, v) in out.iter_mut().zip(self.sigma0(init, cell, &point)) {
                 *o += v;
             }
             if let Some(u0) = init.u {
-                for (o, v) in out.iter_mut().zip(self.stress_of(u0, cell, xi, theta)) {
+                for (o, v) in out.iter_mut().zip(self.stress_of(u0, cell, &point, theta)) {
                     *o += v;
                 }
             }
@@ -214,10 +215,21 @@ impl Field<'_> {
         out
     }
 
+    /// The point `xi` of `cell`: shape values and gradients, evaluated once
+    /// for every displacement and the initial stress there.
+    fn point(&self, cell: usize, xi: [f64; 2]) -> StrainPoint {
+        let c = &self.mesh.cells[cell];
+        let mut coords = [[0.0; 2]; MAX_CELL_NODES];
+        for (x, &n) in coords.iter_mut().zip(&c.nodes) {
+            *x = self.mesh.nodes[n];
+        }
+        StrainPoint::new(c.kind, &coords[..c.nodes.len()], xi)
+    }
+
     /// The stress of the displacements `u` alone.
-    fn stress_of(&self, u: &Displacements, cell: usize, xi: [f64; 2], theta: f64) -> [f64; 6] {
+    fn stress_of(&self, u: &Displacements, cell: usize, point: &StrainPoint, theta: f64) -> [f64; 6] {
         let mut out = [0.0; 6];
-        self.each_stress(u, cell, xi, |m, anti, s| {
+        self.each_stress(u, cell, point, |m, anti, s| {
             let (sin, cos) = (f64::from(m) * theta).sin_cos();
             let (a, b) = match (m, anti) {
                 (0, _) => (1.0, 1.0),
@@ -234,22 +246,16 @@ impl Field<'_> {
     }
 
     /// Calls `f(m, antisymmetric, stress amplitude)` for every harmonic and
-    /// family of `u` with a displacement on `cell` (the shape functions and
-    /// the Jacobian at `xi` evaluated once).
+    /// family of `u` with a displacement on `cell`, at `point`.
     fn each_stress(
         &self,
         u: &Displacements,
         cell: usize,
-        xi: [f64; 2],
+        point: &StrainPoint,
         mut f: impl FnMut(u32, bool, [f64; 6]),
     ) {
         let c = &self.mesh.cells[cell];
-        let mut coords = [[0.0; 2]; MAX_CELL_NODES];
-        for (x, &n) in coords.iter_mut().zip(&c.nodes) {
-            *x = self.mesh.nodes[n];
-        }
         let nn = c.nodes.len();
-        let point = StrainPoint::new(c.kind, &coords[..nn], xi);
         let mat = &self.materials[c.body];
         let mut ue = [0.0; 3 * MAX_CELL_NODES];
         for h in &u.harmonics {
@@ -266,20 +272,17 @@ impl Field<'_> {
         }
     }
 
-    /// The initial stress `sigma_0` of `init` at `xi` of `cell` (zero where
-    /// the body has none).
-    fn sigma0(&self, init: &Initial, cell: usize, xi: [f64; 2]) -> [f64; 6] {
+    /// The initial stress `sigma_0` of `init` at `point` of `cell` (zero
+    /// where the body has none).
+    fn sigma0(&self, init: &Initial, cell: usize, point: &StrainPoint) -> [f64; 6] {
         let c = &self.mesh.cells[cell];
         let Some((s0, gamma)) = init.stress[c.body] else {
             return [0.0; 6];
         };
-        let mut n = [0.0; axijoint_mesh::shapes::MAX_CELL_NODES];
-        let nn = c.kind.n_nodes();
-        c.kind.eval_n(xi, &mut n[..nn]);
         let z: f64 = c
             .nodes
             .iter()
-            .zip(&n[..nn])
+            .zip(point.n())
             .map(|(&k, ni)| ni * self.mesh.nodes[k][1])
             .sum();
         s0.at(z, gamma)
@@ -290,14 +293,15 @@ impl Field<'_> {
     /// (at least `2 m_max + 1`; more when a harmonic above `m_max` is
     /// there), read off each harmonic's amplitude without sampling theta.
     pub fn stress_coefficients(&self, cell: usize, xi: [f64; 2], m_max: usize) -> Vec<[f64; 6]> {
+        let point = self.point(cell, xi);
         let mut out = vec![[0.0; 6]; 2 * m_max + 1];
-        self.add_coefficients(self.u, cell, xi, &mut out);
+        self.add_coefficients(self.u, cell, &point, &mut out);
         if let Some(init) = &self.initial {
-            for (o, v) in out[0].iter_mut().zip(self.sigma0(init, cell, xi)) {
+            for (o, v) in out[0].iter_mut().zip(self.sigma0(init, cell, &point)) {
                 *o += v;
             }
             if let Some(u0) = init.u {
-                self.add_coefficients(u0, cell, xi, &mut out);
+                self.add_coefficients(u0, cell, &point, &mut out);
             }
         }
         out
@@ -307,8 +311,8 @@ impl Field<'_> {
     /// [`Field::stress_of`]: in-plane components go with cos, the shears
     /// with theta with sin, for the symmetric family; the other way round,
     /// the shears negated, for the antisymmetric one).
-    fn add_coefficients(&self, u: &Displacements, cell: usize, xi: [f64; 2], out: &mut Vec<[f64; 6]>) {
-        self.each_stress(u, cell, xi, |m, anti, s| {
+    fn add_coefficients(&self, u: &Displacements, cell: usize, point: &StrainPoint, out: &mut Vec<[f64; 6]>) {
+        self.each_stress(u, cell, point, |m, anti, s| {
             let m = m as usize;
             if out.len() < 2 * m + 1 {
                 out.resize(2 * m + 1, [0.0; 6]);

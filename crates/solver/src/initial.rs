@@ -78,6 +78,7 @@ pub fn initial_load(scene: &Scene, model: &Model) -> Result<InitialLoad, SceneEr
     let mut stress = vec![0.0; 3 * n];
     let mut fe = vec![0.0; 3 * MAX_CELL_NODES];
     let mut coords = Vec::with_capacity(MAX_CELL_NODES);
+    let mut values = crate::elements::CellValues::with_default_rule(axijoint_mesh::CellKind::Quad9);
     for cell in &mesh.cells {
         let Some((s0, gamma)) = bodies[cell.body] else {
             continue;
@@ -89,7 +90,7 @@ pub fn initial_load(scene: &Scene, model: &Model) -> Result<InitialLoad, SceneEr
         coords.extend(cell.nodes.iter().map(|&k| mesh.nodes[k]));
         let fe = &mut fe[..3 * cell.nodes.len()];
         fe.fill(0.0);
-        stress_forces(cell.kind, &coords, |x| s0.at(x[1], gamma), fe);
+        stress_forces(&mut values, cell.kind, &coords, |x| s0.at(x[1], gamma), fe);
         for (i, &k) in cell.nodes.iter().enumerate() {
             for c in 0..3 {
                 stress[3 * k + c] += fe[3 * i + c];

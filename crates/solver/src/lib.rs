@@ -14,6 +14,7 @@
 //! | main types | role |
 //! |---|---|
 //! | [`material::Elastic`] | isotropic E, nu and the 6 x 6 D matrix |
+//! | [`elements::CellValues`] | a cell's shape values, gradients, radii and weights at the points of a rule |
 //! | [`elements::SolidScratch`] | per-kind workspace of [`elements::solid_stiffness`] |
 //! | [`elements::JointSprings`], [`elements::JointRule`] | joint stiffness k and its integration rule |
 //! | [`elements::JointPoint`] | one joint integration point (shape values, tangent, r, weight) |

@@ -427,6 +427,7 @@ fn add_body_forces(
     }
     let mut fe = vec![0.0; 3 * MAX_CELL_NODES];
     let mut coords = Vec::with_capacity(MAX_CELL_NODES);
+    let mut values = crate::elements::CellValues::with_default_rule(axijoint_mesh::CellKind::Quad9);
     for cell in &mesh.cells {
         let gamma = weights[cell.body];
         if gamma == 0.0 {
@@ -444,7 +445,7 @@ fn add_body_forces(
             }
             let fe = &mut fe[..3 * nn];
             fe.fill(0.0);
-            body_force_load(cell.kind, &coords, m as u32, b, fe);
+            body_force_load(&mut values, cell.kind, &coords, m as u32, b, fe);
             let target = &mut out[m].symmetric;
             for (i, &k) in cell.nodes.iter().enumerate() {
                 for c in 0..3 {

@@ -2,6 +2,7 @@
 //!
 //! | module | integrand | what |
 //! |---|---|---|
+//! | [`cell_values`] | `N`, `dN`, `r`, `w = w_q |det J|` | a cell's shape values and gradients at the points of a rule |
 //! | [`solid`] | `c_m B^T D B r dr dz` | meridional solids T3, T6, Q4, Q8, Q9: stiffness, strain and stress |
 //! | [`joint`] | `c_m B^T T^T k T B r ds` | zero-thickness joints Lin4, Lin6 (the paper's Eqs. 7-9) |
 //! | [`traction`] | `c_m N^T t r ds` | consistent nodal loads of a boundary traction |
@@ -18,17 +19,19 @@
 //! - Every matrix is returned in the caller's `DMatrix`, resized only when
 //!   its shape is wrong, so an assembly loop allocates once per element kind.
 
+pub mod cell_values;
 pub mod joint;
 pub mod solid;
 pub mod traction;
 
+pub use cell_values::{CellError, CellValues};
 pub use joint::{
     add_traction_forces, joint_points, joint_stiffness, joint_stiffness_scaled, relative_displacement,
     JointError, JointPoint, JointRule, JointSprings,
 };
 pub use solid::{
-    b_matrix, b_matrix_on_axis, body_force_load, solid_stiffness, solid_stiffness_terms, strain_at,
-    stress_at, stress_forces, SolidScratch, StrainPoint, STRESS_NAMES,
+    b_matrix, b_matrix_on_axis, body_force_load, point_strain, point_stress, solid_stiffness,
+    solid_stiffness_terms, strain_at, stress_at, stress_forces, SolidScratch, StrainPoint, STRESS_NAMES,
 };
 pub use traction::edge_load;
 

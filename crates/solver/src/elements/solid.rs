@@ -24,14 +24,20 @@
 //!
 //! m = 0 is the axisymmetric problem (u, v) plus torsion (w): the same
 //! formulas with m = 0.
+//!
+//! Every Gauss loop here runs over a [`CellValues`] (`N`, `dN`, `r`, `det J`
+//! at the rule's points, mapped once per cell); [`StrainPoint`] is the same
+//! per-point step at one arbitrary point.
 
+use crate::elements::cell_values::{cell_extent, map_point, CellValues};
 use crate::elements::{c_m, zero_matrix, DOF_PER_NODE};
 use crate::material::Elastic;
-use axijoint_mesh::geometry::{derivatives_rz, interpolate, jacobian};
-use axijoint_mesh::quadrature::{default_rule, Rule2D};
+use axijoint_mesh::quadrature::Rule2D;
 use axijoint_mesh::shapes::MAX_CELL_NODES;
 use axijoint_mesh::CellKind;
 use nalgebra::DMatrix;
+#[cfg(doc)]
+use {crate::elements::CellError, axijoint_mesh::quadrature::default_rule};
 
 /// Points closer to the axis than `AXIS_TOL` times the element size are
 /// treated as on the axis by [`strain_at`].
@@ -79,50 +85,56 @@ pub fn b_matrix_on_axis(m: u32, dn_drz: &[[f64; 2]], out: &mut DMatrix<f64>) {
     fill_b(m, dn_drz, |i| dn_drz[i][0], out);
 }
 
-/// Per-kind workspace of [`solid_stiffness`]: the rule, the shape values and
-/// reference derivatives at its points, the physical derivatives. Build it once
-/// per element kind and reuse it for every element of that kind; nothing is
-/// allocated per element or per Gauss point.
+/// Workspace of [`solid_stiffness`]: the [`CellValues`] of the kind's
+/// [`default_rule`]. Build it once and reuse it for every element; nothing
+/// is allocated per element or per Gauss point (a change of kind reuses the
+/// buffers, growing them if needed).
 #[derive(Clone, Debug)]
 pub struct SolidScratch {
-    kind: CellKind,
-    rule: Rule2D,
-    /// `N_i` at point q: `n[q * n_nodes + i]`.
-    n: Vec<f64>,
-    /// `[dN_i/dxi, dN_i/deta]` at point q: `dn[q * n_nodes + i]`.
-    dn: Vec<[f64; 2]>,
-    dn_rz: Vec<[f64; 2]>,
+    values: CellValues,
 }
 
 impl SolidScratch {
     /// Workspace for `kind` with its [`default_rule`].
     pub fn new(kind: CellKind) -> Self {
-        let rule = default_rule(kind);
-        let nn = kind.n_nodes();
-        let mut n = vec![0.0; rule.len() * nn];
-        let mut dn = vec![[0.0; 2]; rule.len() * nn];
-        for (q, xi) in rule.points.iter().enumerate() {
-            kind.eval_n(*xi, &mut n[q * nn..(q + 1) * nn]);
-            kind.eval_dn(*xi, &mut dn[q * nn..(q + 1) * nn]);
-        }
         SolidScratch {
-            kind,
-            rule,
-            n,
-            dn,
-            dn_rz: vec![[0.0; 2]; nn],
+            values: CellValues::with_default_rule(kind),
         }
     }
 
     /// The element kind this workspace is for.
     pub fn kind(&self) -> CellKind {
-        self.kind
+        self.values.kind()
     }
 
     /// The integration rule.
     pub fn rule(&self) -> Rule2D {
-        self.rule
+        self.values.rule()
     }
+
+    /// The values of the last cell.
+    pub fn values(&self) -> &CellValues {
+        &self.values
+    }
+}
+
+/// Maps `values` onto a cell; the element routines' callers hand them
+/// validated meshes, so a refused cell is a bug.
+///
+/// # Panics
+/// If the cell is degenerate or folded at a point ([`CellError`]).
+fn reinit<'a>(values: &'a mut CellValues, kind: CellKind, coords: &[[f64; 2]]) -> &'a CellValues {
+    if let Err(e) = values.reinit(kind, coords) {
+        panic!("{e} (mesh validation rejects such cells)");
+    }
+    values
+}
+
+/// The ring weight `c r |det J| w_q` of point `q` (in this product order:
+/// the matrices and vectors are bit for bit those of the Gauss loops it
+/// replaced).
+fn ring_weight(values: &CellValues, q: usize, c: f64) -> f64 {
+    c * values.r(q) * values.det(q).abs() * values.w_gauss(q)
 }
 
 /// Stiffness of a solid element for harmonic `m` (kernel `B^T D B r`):
@@ -134,11 +146,13 @@ impl SolidScratch {
 /// with the rule of [`default_rule`] (no point on the axis, so elements
 /// touching the axis integrate as any other; the axis conditions are
 /// constraints imposed at assembly). `coords` are the `kind.n_nodes()` nodes
-/// in gmsh order; `|det J|` makes either orientation work, a folded element
-/// (det J changing sign, see `corner_and_gauss_dets`) does not. `out` is
+/// in gmsh order; `|det J|` makes either orientation work. `out` is
 /// resized to 3n x 3n if needed and overwritten; the result is exactly
-/// symmetric. If `scratch` is for another kind it is rebuilt. The products
-/// are taken node block by node block in closed form (`each_block`).
+/// symmetric. If `scratch` is for another kind it is switched. The products
+/// are taken node block by node block in closed form (`each_point_block`).
+///
+/// # Panics
+/// If the cell is degenerate or folded at a Gauss point ([`CellError`]).
 pub fn solid_stiffness(
     kind: CellKind,
     coords: &[[f64; 2]],
@@ -147,75 +161,72 @@ pub fn solid_stiffness(
     scratch: &mut SolidScratch,
     out: &mut DMatrix<f64>,
 ) {
-    if scratch.kind != kind {
-        *scratch = SolidScratch::new(kind);
-    }
-    let nn = kind.n_nodes();
-    zero_matrix(out, DOF_PER_NODE * nn, DOF_PER_NODE * nn);
-    let (cm, mf) = (c_m(m), f64::from(m));
-    let SolidScratch {
-        rule, n, dn, dn_rz, ..
-    } = scratch;
-    for (q, w) in rule.weights.iter().enumerate() {
-        let (nq, dnq) = (&n[q * nn..(q + 1) * nn], &dn[q * nn..(q + 1) * nn]);
-        let (jac, det) = jacobian(kind, coords, dnq);
-        derivatives_rz(&jac, det, dnq, dn_rz);
-        let r = interpolate(&coords[..nn], nq)[0];
-        let f = cm * r * det.abs() * w;
-        each_block(mat, nq, dn_rz, r, |a, b, t| {
-            let mut k = [[0.0; 3]; 3];
-            for (i, row) in k.iter_mut().enumerate() {
-                for (j, v) in row.iter_mut().enumerate() {
-                    *v = f * (t[0][i][j] + mf * (t[1][i][j] + mf * t[2][i][j]));
-                }
+    let values = reinit(&mut scratch.values, kind, coords);
+    zero_matrix(out, DOF_PER_NODE * kind.n_nodes(), DOF_PER_NODE * kind.n_nodes());
+    let mf = f64::from(m);
+    each_point_block(values, mat, c_m(m), |f, a, b, t| {
+        let mut k = [[0.0; 3]; 3];
+        for (i, row) in k.iter_mut().enumerate() {
+            for (j, v) in row.iter_mut().enumerate() {
+                *v = f * (t[0][i][j] + mf * (t[1][i][j] + mf * t[2][i][j]));
             }
-            add_block(out, a, b, &k);
-        });
-    }
+        }
+        add_block(out, a, b, &k);
+    });
     symmetrize(out);
 }
 
-/// The parts `t[0] + m t[1] + m^2 t[2]` of the 3 x 3 block `B_a^T D B_b` of
-/// nodes `a <= b` at one point (`N`, `dN/dr`, `dN/dz` given, `h = N / r`),
-/// in closed form for the isotropic `D` (lambda, G, A = lambda + 2 G) and
-/// the `B` of the module doc: a fifth of the products of `B^T (D B)`.
-fn each_block(
+/// The Gauss loop of the stiffness: `f(weight, a, b, t)` for every point
+/// and node pair `a <= b`, the weight [`ring_weight`] with factor `c`, `t`
+/// the parts `t[0] + m t[1] + m^2 t[2]` of the 3 x 3 block `B_a^T D B_b`
+/// there (`N`, `dN/dr`, `dN/dz`, `h = N / r`), in closed form for the
+/// isotropic `D` (lambda, G, A = lambda + 2 G) and the `B` of the module
+/// doc: a fifth of the products of `B^T (D B)`.
+fn each_point_block(
+    values: &CellValues,
     mat: &Elastic,
-    n: &[f64],
-    dn_rz: &[[f64; 2]],
-    r: f64,
-    mut f: impl FnMut(usize, usize, &[[[f64; 3]; 3]; 3]),
+    c: f64,
+    mut f: impl FnMut(f64, usize, usize, &[[[f64; 3]; 3]; 3]),
 ) {
     let (l, g) = (mat.lame_lambda(), mat.shear_modulus());
     let a2 = l + 2.0 * g;
-    let nn = n.len();
-    for a in 0..nn {
-        let ([ra, za], ha) = (dn_rz[a], n[a] / r);
-        for b in a..nn {
-            let ([rb, zb], hb) = (dn_rz[b], n[b] / r);
-            let hh = ha * hb;
-            let t = [
-                [
+    for q in 0..values.n_points() {
+        let weight = ring_weight(values, q, c);
+        let (n, dn_rz, r) = (values.n(q), values.dn(q), values.r(q));
+        let nn = n.len();
+        // h_i = N_i / r, divided once per node rather than once per pair
+        let mut h = [0.0; MAX_CELL_NODES];
+        for (hi, ni) in h.iter_mut().zip(n) {
+            *hi = ni / r;
+        }
+        for a in 0..nn {
+            let ([ra, za], ha) = (dn_rz[a], h[a]);
+            for b in a..nn {
+                let ([rb, zb], hb) = (dn_rz[b], h[b]);
+                let hh = ha * hb;
+                let t = [
                     [
-                        ra * (a2 * rb + l * hb) + ha * (l * rb + a2 * hb) + g * za * zb,
-                        l * (ra + ha) * zb + g * za * rb,
-                        0.0,
+                        [
+                            ra * (a2 * rb + l * hb) + ha * (l * rb + a2 * hb) + g * za * zb,
+                            l * (ra + ha) * zb + g * za * rb,
+                            0.0,
+                        ],
+                        [l * za * (rb + hb) + g * ra * zb, a2 * za * zb + g * ra * rb, 0.0],
+                        [0.0, 0.0, g * ((ra - ha) * (rb - hb) + za * zb)],
                     ],
-                    [l * za * (rb + hb) + g * ra * zb, a2 * za * zb + g * ra * rb, 0.0],
-                    [0.0, 0.0, g * ((ra - ha) * (rb - hb) + za * zb)],
-                ],
-                [
-                    [0.0, 0.0, l * ra * hb + a2 * hh - g * ha * (rb - hb)],
-                    [0.0, 0.0, l * za * hb - g * ha * zb],
                     [
-                        l * ha * rb + a2 * hh - g * hb * (ra - ha),
-                        l * ha * zb - g * za * hb,
-                        0.0,
+                        [0.0, 0.0, l * ra * hb + a2 * hh - g * ha * (rb - hb)],
+                        [0.0, 0.0, l * za * hb - g * ha * zb],
+                        [
+                            l * ha * rb + a2 * hh - g * hb * (ra - ha),
+                            l * ha * zb - g * za * hb,
+                            0.0,
+                        ],
                     ],
-                ],
-                [[g * hh, 0.0, 0.0], [0.0, g * hh, 0.0], [0.0, 0.0, a2 * hh]],
-            ];
-            f(a, b, &t);
+                    [[g * hh, 0.0, 0.0], [0.0, g * hh, 0.0], [0.0, 0.0, a2 * hh]],
+                ];
+                f(weight, a, b, &t);
+            }
         }
     }
 }
@@ -249,7 +260,7 @@ fn symmetrize(out: &mut DMatrix<f64>) {
 /// `K(m) = c_m (out[0] + m out[1] + m^2 out[2])`. `B = B(0) + m B_m`
 /// (module doc), where column j of `B_m` has one entry `beta_j` in row
 /// `rho_j`: `-N/r` in g_rth for u, `-N/r` in g_zth for v, `N/r` in e_th for
-/// w. Summed over the points with weight `f = w r |det J|`:
+/// w. Summed over the points with weight `f = r |det J| w_q`:
 ///
 /// ```text
 /// out[0] = B(0)^T D B(0) f
@@ -263,28 +274,17 @@ pub fn solid_stiffness_terms(
     scratch: &mut SolidScratch,
     out: &mut [DMatrix<f64>; 3],
 ) {
-    if scratch.kind != kind {
-        *scratch = SolidScratch::new(kind);
-    }
+    let values = reinit(&mut scratch.values, kind, coords);
     let nn = kind.n_nodes();
     for o in out.iter_mut() {
         zero_matrix(o, DOF_PER_NODE * nn, DOF_PER_NODE * nn);
     }
-    let SolidScratch {
-        rule, n, dn, dn_rz, ..
-    } = scratch;
-    for (q, w) in rule.weights.iter().enumerate() {
-        let (nq, dnq) = (&n[q * nn..(q + 1) * nn], &dn[q * nn..(q + 1) * nn]);
-        let (jac, det) = jacobian(kind, coords, dnq);
-        derivatives_rz(&jac, det, dnq, dn_rz);
-        let r = interpolate(&coords[..nn], nq)[0];
-        let f = r * det.abs() * w;
-        each_block(mat, nq, dn_rz, r, |a, b, t| {
-            for (o, tk) in out.iter_mut().zip(t) {
-                add_block(o, a, b, &tk.map(|row| row.map(|v| f * v)));
-            }
-        });
-    }
+    // c = 1: `1 r` is `r` exactly.
+    each_point_block(values, mat, 1.0, |f, a, b, t| {
+        for (o, tk) in out.iter_mut().zip(t) {
+            add_block(o, a, b, &tk.map(|row| row.map(|v| f * v)));
+        }
+    });
     for o in out.iter_mut() {
         symmetrize(o);
     }
@@ -298,21 +298,25 @@ pub fn solid_stiffness_terms(
 /// f_i += c_m * sum_q N_i(q) b r(q) |det J(q)| w_q
 /// ```
 ///
-/// with the rule of [`default_rule`] (exact for a constant b on straight
-/// cells up to quadratic ones).
-pub fn body_force_load(kind: CellKind, coords: &[[f64; 2]], m: u32, b: [f64; 3], out: &mut [f64]) {
-    let rule = default_rule(kind);
-    let nn = kind.n_nodes();
-    let mut n = [0.0; MAX_CELL_NODES];
-    let mut dn = [[0.0; 2]; MAX_CELL_NODES];
+/// with the rule of `values` (exact for a constant b on straight cells up to
+/// quadratic ones with [`default_rule`], the rule of
+/// [`CellValues::with_default_rule`] and of a switch of kind).
+///
+/// # Panics
+/// If the cell is degenerate or folded at a Gauss point ([`CellError`]).
+pub fn body_force_load(
+    values: &mut CellValues,
+    kind: CellKind,
+    coords: &[[f64; 2]],
+    m: u32,
+    b: [f64; 3],
+    out: &mut [f64],
+) {
+    let values = reinit(values, kind, coords);
     let cm = c_m(m);
-    for (xi, w) in rule.points.iter().zip(rule.weights) {
-        kind.eval_n(*xi, &mut n[..nn]);
-        kind.eval_dn(*xi, &mut dn[..nn]);
-        let (_, det) = jacobian(kind, coords, &dn[..nn]);
-        let r = interpolate(&coords[..nn], &n[..nn])[0];
-        let scale = cm * r * det.abs() * w;
-        for (i, ni) in n[..nn].iter().enumerate() {
+    for q in 0..values.n_points() {
+        let scale = ring_weight(values, q, cm);
+        for (i, ni) in values.n(q).iter().enumerate() {
             for c in 0..DOF_PER_NODE {
                 out[DOF_PER_NODE * i + c] += scale * ni * b[c];
             }
@@ -328,29 +332,27 @@ pub fn body_force_load(kind: CellKind, coords: &[[f64; 2]], m: u32, b: [f64; 3],
 /// f += c_0 * sum_q B_0(q)^T sigma(q) r(q) |det J(q)| w_q
 /// ```
 ///
-/// with the rule of [`default_rule`]. Equal to `K_0 u` when `sigma` is the
-/// stress of the displacements u.
+/// with the rule of `values` (as for [`body_force_load`]). Equal to `K_0 u`
+/// when `sigma` is the stress of the displacements u and the rule is the
+/// [`default_rule`].
+///
+/// # Panics
+/// If the cell is degenerate or folded at a Gauss point ([`CellError`]).
 pub fn stress_forces(
+    values: &mut CellValues,
     kind: CellKind,
     coords: &[[f64; 2]],
     sigma: impl Fn([f64; 2]) -> [f64; 6],
     out: &mut [f64],
 ) {
-    let rule = default_rule(kind);
+    let values = reinit(values, kind, coords);
     let nn = kind.n_nodes();
-    let mut n = [0.0; MAX_CELL_NODES];
-    let mut dn = [[0.0; 2]; MAX_CELL_NODES];
-    let mut drz = [[0.0; 2]; MAX_CELL_NODES];
     let mut b = DMatrix::zeros(6, DOF_PER_NODE * nn);
-    for (xi, w) in rule.points.iter().zip(rule.weights) {
-        kind.eval_n(*xi, &mut n[..nn]);
-        kind.eval_dn(*xi, &mut dn[..nn]);
-        let (jac, det) = jacobian(kind, coords, &dn[..nn]);
-        derivatives_rz(&jac, det, &dn[..nn], &mut drz[..nn]);
-        let x = interpolate(&coords[..nn], &n[..nn]);
-        b_matrix(0, &n[..nn], &drz[..nn], x[0], &mut b);
+    for q in 0..values.n_points() {
+        let x = values.position(q);
+        b_matrix(0, values.n(q), values.dn(q), x[0], &mut b);
         let s = sigma(x);
-        let scale = c_m(0) * x[0] * det.abs() * w;
+        let scale = ring_weight(values, q, c_m(0));
         for col in 0..DOF_PER_NODE * nn {
             let v: f64 = (0..6).map(|row| b[(row, col)] * s[row]).sum();
             out[col] += scale * v;
@@ -387,7 +389,9 @@ pub fn strain_at(kind: CellKind, coords: &[[f64; 2]], m: u32, u_elem: &[f64], xi
 /// One reference point of a cell, prepared for the strains and stresses of
 /// many displacement fields there (harmonics, families, load cases):
 /// [`strain_at`] without evaluating the shape functions and the Jacobian
-/// again for each.
+/// again for each. The one-point, allocation-free counterpart of
+/// [`CellValues`] (same per-point arithmetic); at the points of a rule use
+/// [`point_strain`] and [`point_stress`].
 #[derive(Clone, Copy, Debug)]
 pub struct StrainPoint {
     nn: usize,
@@ -409,57 +413,34 @@ impl StrainPoint {
         );
         kind.eval_n(xi, &mut n);
         kind.eval_dn(xi, &mut dn);
-        let (jac, det) = jacobian(kind, coords, &dn);
-        derivatives_rz(&jac, det, &dn[..nn], &mut drz[..nn]);
-        let x = interpolate(&coords[..nn], &n[..nn]);
-        let (lo, hi) =
-            coords[..nn]
-                .iter()
-                .fold(([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]), |(lo, hi), x| {
-                    (
-                        [lo[0].min(x[0]), lo[1].min(x[1])],
-                        [hi[0].max(x[0]), hi[1].max(x[1])],
-                    )
-                });
-        let h = (hi[0] - lo[0]).hypot(hi[1] - lo[1]);
+        let coords = &coords[..nn];
+        let (x, det) = map_point(kind, coords, &n[..nn], &dn[..nn], &mut drz[..nn]);
+        let extent = cell_extent(coords);
         StrainPoint {
             nn,
             n,
             drz,
             x,
             det,
-            on_axis: x[0].abs() <= AXIS_TOL * h,
+            on_axis: on_axis(x[0], extent[0].hypot(extent[1])),
         }
     }
 
     /// Strain amplitudes of harmonic `m` of the nodal displacements
     /// `u_elem` (as [`strain_at`]).
     pub fn strain(&self, m: u32, u_elem: &[f64]) -> [f64; 6] {
-        // f[c] = [value, d/dr, d/dz] of component c = u, v, w
-        let mut f = [[0.0; 3]; 3];
-        for i in 0..self.nn {
-            for (c, fc) in f.iter_mut().enumerate() {
-                let ui = u_elem[DOF_PER_NODE * i + c];
-                fc[0] += self.n[i] * ui;
-                fc[1] += self.drz[i][0] * ui;
-                fc[2] += self.drz[i][1] * ui;
-            }
-        }
-        let [[u, u_r, u_z], [v, v_r, v_z], [w, w_r, w_z]] = f;
-        let (mf, r) = (f64::from(m), self.x[0]);
-        // (u + m w)/r, (w + m u)/r, m v / r
-        let (hoop_u, hoop_w, hoop_v) = if self.on_axis {
-            (u_r + mf * w_r, w_r + mf * u_r, mf * v_r)
-        } else {
-            ((u + mf * w) / r, (w + mf * u) / r, mf * v / r)
-        };
-        [u_r, v_z, hoop_u, u_z + v_r, w_r - hoop_w, w_z - hoop_v]
+        let nn = self.nn;
+        strain_kernel(&self.n[..nn], &self.drz[..nn], self.x[0], self.on_axis, m, u_elem)
     }
 
     /// Stress amplitudes `D eps` (as [`stress_at`]).
     pub fn stress(&self, mat: &Elastic, m: u32, u_elem: &[f64]) -> [f64; 6] {
-        let eps = nalgebra::SVector::<f64, 6>::from(self.strain(m, u_elem));
-        (mat.d_matrix() * eps).into()
+        stress_of(mat, self.strain(m, u_elem))
+    }
+
+    /// The shape values `N_i` there.
+    pub fn n(&self) -> &[f64] {
+        &self.n[..self.nn]
     }
 
     /// The point's `(r, z)`.
@@ -471,6 +452,55 @@ impl StrainPoint {
     pub fn det(&self) -> f64 {
         self.det
     }
+}
+
+/// Strain amplitudes of harmonic `m` of the nodal displacements `u_elem` at
+/// point `q` of `values` (after [`CellValues::reinit`]); as [`strain_at`]
+/// there, to the bit.
+pub fn point_strain(values: &CellValues, q: usize, m: u32, u_elem: &[f64]) -> [f64; 6] {
+    let r = values.r(q);
+    let axis = on_axis(r, values.size());
+    strain_kernel(values.n(q), values.dn(q), r, axis, m, u_elem)
+}
+
+/// Stress amplitudes `D eps` at point `q` of `values` (as [`point_strain`]).
+pub fn point_stress(values: &CellValues, q: usize, mat: &Elastic, m: u32, u_elem: &[f64]) -> [f64; 6] {
+    stress_of(mat, point_strain(values, q, m, u_elem))
+}
+
+/// True for a point of radius `r` on the axis of a cell of size `h` (see
+/// [`strain_at`]).
+fn on_axis(r: f64, h: f64) -> bool {
+    r.abs() <= AXIS_TOL * h
+}
+
+/// `D eps`.
+fn stress_of(mat: &Elastic, eps: [f64; 6]) -> [f64; 6] {
+    (mat.d_matrix() * nalgebra::SVector::<f64, 6>::from(eps)).into()
+}
+
+/// The strains of [`strain_at`] from the shape values `n`, gradients
+/// `drz` and radius `r` of a point.
+fn strain_kernel(n: &[f64], drz: &[[f64; 2]], r: f64, on_axis: bool, m: u32, u_elem: &[f64]) -> [f64; 6] {
+    // f[c] = [value, d/dr, d/dz] of component c = u, v, w
+    let mut f = [[0.0; 3]; 3];
+    for (i, (ni, di)) in n.iter().zip(drz).enumerate() {
+        for (c, fc) in f.iter_mut().enumerate() {
+            let ui = u_elem[DOF_PER_NODE * i + c];
+            fc[0] += ni * ui;
+            fc[1] += di[0] * ui;
+            fc[2] += di[1] * ui;
+        }
+    }
+    let [[u, u_r, u_z], [v, v_r, v_z], [w, w_r, w_z]] = f;
+    let mf = f64::from(m);
+    // (u + m w)/r, (w + m u)/r, m v / r
+    let (hoop_u, hoop_w, hoop_v) = if on_axis {
+        (u_r + mf * w_r, w_r + mf * u_r, mf * v_r)
+    } else {
+        ((u + mf * w) / r, (w + mf * u) / r, mf * v / r)
+    };
+    [u_r, v_z, hoop_u, u_z + v_r, w_r - hoop_w, w_z - hoop_v]
 }
 
 /// Stress amplitudes `D eps` in the order `(s_r, s_z, s_th, t_rz, t_rth,
