@@ -92,7 +92,12 @@ fn input_errors_exit_1() {
     assert_status(&solve(&malformed, &out, &[]), 1, &["malformed.json", "line 2"]);
 
     let missing = dir.path().join("no_such_scene.json");
-    assert_status(&solve(&missing, &out, &[]), 1, &["no_such_scene.json"]);
+    let stderr = assert_status(&solve(&missing, &out, &[]), 1, &["no_such_scene.json"]);
+    assert_eq!(
+        stderr.matches("os error").count(),
+        1,
+        "the OS error said once: {stderr}"
+    );
 
     let mut scene = repo_scene("pile_footing_bonded.json");
     scene["supports"][0]["on"] = json!("no_such_group");
@@ -179,6 +184,18 @@ fn io_errors_exit_5() {
         &["a_file"],
     );
     assert_eq!(std::fs::read_to_string(&file).unwrap(), "not a folder");
+    // `run` (with the comparison without joints beside the output) names
+    // the path too.
+    let jointed = write_scene(dir.path(), "jointed", &repo_scene("pile_footing.json"));
+    let out = file.join("out");
+    let run = axijoint(&[
+        "run",
+        jointed.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "-q",
+    ]);
+    assert_status(&run, 5, &["a_file"]);
 
     let folder = dir.path().join("folder.json");
     std::fs::create_dir(&folder).unwrap();

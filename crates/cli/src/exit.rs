@@ -116,7 +116,7 @@ fn mesh_status(e: &axijoint_mesh::MeshError) -> u8 {
 fn scene_status(e: &axijoint_solver::scene::SceneError) -> u8 {
     use axijoint_solver::scene::SceneError;
     match e {
-        SceneError::Io { source, .. } => io_status(source),
+        SceneError::Io { error, .. } => io_status(error),
         SceneError::Parse { .. } | SceneError::Invalid { .. } | SceneError::UnknownName { .. } => INPUT_ERROR,
     }
 }

@@ -52,4 +52,5 @@ pub mod material;
 pub mod results;
 pub mod run;
 pub mod scene;
+pub mod short;
 pub mod solution;

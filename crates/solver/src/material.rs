@@ -6,13 +6,13 @@ use nalgebra::SMatrix;
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum MaterialError {
     /// E is zero, negative or not finite.
-    #[error("Young's modulus E = {e} is not allowed: it must be a finite number > 0")]
+    #[error("Young's modulus E = {} is not allowed: it must be a finite number > 0", crate::short::short(.e))]
     Modulus {
         /// The value given.
         e: f64,
     },
     /// nu is outside (-1, 0.5).
-    #[error("Poisson's ratio nu = {nu} is not allowed: it must lie strictly between -1 and 0.5 (0.5 is incompressible, which displacement elements cannot represent)")]
+    #[error("Poisson's ratio nu = {} is not allowed: it must lie strictly between -1 and 0.5 (0.5 is incompressible, which displacement elements cannot represent)", crate::short::short(.nu))]
     Poisson {
         /// The value given.
         nu: f64,

@@ -365,7 +365,11 @@ fn missing_material_for_a_body() {
     ));
     assert_error(&e, "materials", &["'footing' has no material"]);
     let e = error_of(&edited(r#""footing": {"E""#, r#""footings": {"E""#));
-    assert_error(&e, "materials.footings", &["'footings'", "pile, footing"]);
+    assert_error(
+        &e,
+        "materials.footings",
+        &["'footings'", "pile, footing", "did you mean 'footing'?"],
+    );
 }
 
 #[test]
@@ -374,14 +378,40 @@ fn support_on_a_missing_curve_lists_the_names() {
     assert_error(
         &e,
         "supports[0].on",
-        &["'footing_out'", "footing_outer", "pile_end", "axis"],
+        &[
+            "'footing_out'",
+            "footing_outer",
+            "pile_end",
+            "axis",
+            "did you mean 'footing_outer'?",
+        ],
     );
+    // Nothing near: no suggestion.
     let e = error_of(&edited(r#""on": "pile_end""#, r#""on": "pile_tip""#));
     assert_error(&e, "loads[0].on", &["curve named 'pile_tip'", "pile_end"]);
+    assert!(!e.to_string().contains("did you mean"), "{e}");
+    let e = error_of(&edited(r#""on": "pile_end""#, r#""on": "pile_edn""#));
+    assert_error(&e, "loads[0].on", &["did you mean 'pile_end'?"]);
     let e = error_of(&edited(r#""bottom": "pile""#, r#""bottom": "piles""#));
-    assert_error(&e, "joints.pile_side.bottom", &["surface named 'piles'"]);
+    assert_error(
+        &e,
+        "joints.pile_side.bottom",
+        &["surface named 'piles'", "did you mean 'pile'?"],
+    );
     let e = error_of(&edited(r#""pile_side": {"#, r#""pile_sides": {"#));
     assert_error(&e, "joints.pile_sides", &["'pile_sides'", "pile_side"]);
+}
+
+#[test]
+fn the_nearest_name_is_suggested_only_when_near() {
+    use axijoint_solver::scene::nearest;
+    let known = ["shaft", "base", "pile_head", "footing_outer"];
+    assert_eq!(nearest("shatf", known), Some("shaft"), "a transposition");
+    assert_eq!(nearest("pile_hed", known), Some("pile_head"));
+    assert_eq!(nearest("bsae", known), Some("base"));
+    assert_eq!(nearest("footing_out", known), Some("footing_outer"));
+    assert_eq!(nearest("toe", known), None);
+    assert_eq!(nearest("shaft", known), None, "an exact name is not a suggestion");
 }
 
 #[test]

@@ -16,7 +16,7 @@ pub mod console;
 pub mod report;
 pub mod solve;
 
-use anyhow::Result;
+use anyhow::{Context, Result};
 use axijoint_solver::results::{read_solution, SolutionHeader};
 use axijoint_solver::scene::Scene;
 use solve::{check_limit, solve_to, solve_to_then, without_joints, WITHOUT_JOINTS};
@@ -112,10 +112,11 @@ fn with_comparison(
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
         _ => PathBuf::from("."),
     };
-    std::fs::create_dir_all(&parent)?;
+    std::fs::create_dir_all(&parent).with_context(|| format!("creating {}", parent.display()))?;
     let side = tempfile::Builder::new()
         .prefix(".without_joints")
-        .tempdir_in(&parent)?;
+        .tempdir_in(&parent)
+        .with_context(|| format!("creating a folder in {}", parent.display()))?;
     let (solved, comparison) = std::thread::scope(|s| {
         // Owned by this body, so that the waiting thread is let go even if
         // the solve unwinds.

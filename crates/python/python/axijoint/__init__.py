@@ -15,27 +15,28 @@ subprocess); the GIL is released while it solves. docs/python.md has the
 whole story.
 """
 
-from __future__ import annotations
-
-import copy
-import json
-import os
-import re
-import shutil
-import tempfile
-from pathlib import Path
-from typing import Any, Mapping
-
-from . import _native
 from ._native import (
-    set_mesh_cache,
     BeyondCapacity,
     Error,
     GmshFailure,
     InputError,
     IOFailure,
     NumericalFailure,
+    set_mesh_cache,
 )
+
+# Every error carries the binary's exit status: the library sets it on
+# each instance, the class gives it to errors raised here in Python (a bad
+# override path, a missing load case).
+Error.exit_status = 1
+InputError.exit_status = 1
+BeyondCapacity.exit_status = 3
+GmshFailure.exit_status = 4
+IOFailure.exit_status = 5
+NumericalFailure.exit_status = 6
+
+from ._api import DICT_SCENE_NAME, Cases, Result, run, set_key  # noqa: E402
+from ._sweep import grid_cells, sweep  # noqa: E402
 
 __all__ = [
     "run",
@@ -51,267 +52,5 @@ __all__ = [
     "set_key",
     "set_mesh_cache",
     "grid_cells",
+    "DICT_SCENE_NAME",
 ]
-
-# The name a scene given as a dict goes by (in messages and in
-# solution.json), inside its base folder.
-DICT_SCENE_NAME = "<scene dict>"
-
-_PART = re.compile(r"([^.\[\]]+)((?:\[-?\d+\])*)")
-
-
-def _parse_key(key: str) -> list:
-    """`"loads[0].force[1]"` -> `["loads", 0, "force", 1]`."""
-    steps: list = []
-    for part in key.split("."):
-        m = _PART.fullmatch(part)
-        if not m:
-            raise InputError(f"override {key!r}: not a key path like 'joints.pile_side.law.cohesion' or 'loads[0].force[0]'")
-        steps.append(m.group(1))
-        steps.extend(int(i) for i in re.findall(r"\[(-?\d+)\]", m.group(2)))
-    return steps
-
-
-def _plain(value: Any) -> Any:
-    """numpy scalars and arrays as JSON values."""
-    if hasattr(value, "tolist"):
-        return value.tolist()
-    return value
-
-
-def set_key(scene: dict, key: str, value: Any) -> None:
-    """Sets `key` (a path such as `"joints.pile_side.law.cohesion"` or
-    `"loads[0].force[0]"`) of the scene dict to `value`, in place. Missing
-    objects on the way are made; a list index must exist."""
-    steps = _parse_key(key)
-    node: Any = scene
-    done = ""
-    for i, step in enumerate(steps):
-        last = i == len(steps) - 1
-        if isinstance(step, int):
-            if not isinstance(node, list) or not -len(node) <= step < len(node):
-                size = f"a list of {len(node)}" if isinstance(node, list) else f"not a list ({type(node).__name__})"
-                raise InputError(f"override {key!r}: {done or '.'} is {size}, no index {step}")
-            where = f"{done}[{step}]"
-        else:
-            if not isinstance(node, dict):
-                raise InputError(f"override {key!r}: {done or '.'} is not an object ({type(node).__name__})")
-            where = f"{done}.{step}" if done else step
-        if last:
-            node[step] = _plain(value)
-        else:
-            if isinstance(step, str) and step not in node:
-                node[step] = [] if isinstance(steps[i + 1], int) else {}
-            node = node[step]
-        done = where
-
-
-def _overrides(overrides: Mapping[str, Any] | None, kwargs: Mapping[str, Any]) -> dict:
-    """One dict of key paths: `overrides` as given, keyword arguments with
-    `__` read as `.` (`mesh__parameters__size=0.5`)."""
-    out = dict(overrides or {})
-    for k, v in kwargs.items():
-        out[k.replace("__", ".")] = v
-    return out
-
-
-def _scene_source(scene, base_dir, overrides: Mapping[str, Any]) -> tuple[str, str | None]:
-    """The scene's path (as named in messages; its folder resolves
-    `mesh.file`) and its JSON text (`None`: the binary reads the file)."""
-    if isinstance(scene, Mapping):
-        base = Path(base_dir) if base_dir is not None else Path.cwd()
-        doc = copy.deepcopy(dict(scene))
-        path = str(base / DICT_SCENE_NAME)
-    else:
-        path = os.fspath(scene)
-        if base_dir is not None:
-            raise InputError("base_dir is for a scene given as a dict; a scene file's mesh is found beside it")
-        if not overrides:
-            return path, None
-        try:
-            doc = json.loads(Path(path).read_text())
-        except (OSError, ValueError, UnicodeDecodeError):
-            # Unreadable or malformed: the binary says what is wrong.
-            return path, None
-        if not isinstance(doc, dict):
-            return path, None
-    for key, value in overrides.items():
-        set_key(doc, key, value)
-    return path, json.dumps(doc, indent=2)
-
-
-def _fmt_angle(theta: float) -> str:
-    """The angle as the report names files (`cut_a-a_theta0.csv`)."""
-    t = float(theta)
-    s = str(int(t)) if t.is_integer() else repr(t)
-    return s.replace("-", "m")
-
-
-class Result:
-    """The solution folder of one run.
-
-    `folder`: where it is (a temporary folder removed with this object when
-    `run` was given no `output`). `summary`: summary.json as a dict (`None`
-    for `report=False`). `solution`: solution.json (the header)."""
-
-    def __init__(self, folder: Path, tmp: tempfile.TemporaryDirectory | None = None):
-        self.folder = Path(folder)
-        self._tmp = tmp
-        self.solution = json.loads((self.folder / "solution.json").read_text())
-        s = self.folder / "summary.json"
-        self.summary = json.loads(s.read_text()) if s.is_file() else None
-
-    def __repr__(self) -> str:
-        return f"axijoint.Result({str(self.folder)!r})"
-
-    @property
-    def converged(self) -> bool:
-        return self.solution.get("extra", {}).get("converged", True) is not False
-
-    @property
-    def complete(self) -> bool:
-        """False when a stepped run stopped short of the whole load, or a one-shot run stopped."""
-        return self.solution.get("extra", {}).get("complete", True) is not False
-
-    @property
-    def load_factor(self) -> float | None:
-        return self.solution.get("extra", {}).get("load_factor")
-
-    @property
-    def limit_load_factor(self) -> float | None:
-        """The limit load factor when the load exceeded the joints' capacity."""
-        return self.solution.get("extra", {}).get("limit_load_factor")
-
-    @property
-    def exit_status(self) -> int:
-        """The binary's exit status for this run: 0, or 3 (limit load
-        factor below 1) or 6 (stopped short for another reason)."""
-        if self.complete:
-            return 0
-        return 3 if self.limit_load_factor is not None else 6
-
-    def cut(self, name: str, theta: float):
-        """The cut `name` at `theta` degrees: `cut_<name>_theta<deg>.csv`."""
-        import pandas as pd
-
-        path = self.folder / f"cut_{name}_theta{_fmt_angle(theta)}.csv"
-        if not path.is_file():
-            have = sorted(p.name for p in self.folder.glob("cut_*.csv"))
-            raise InputError(f"{path}: no such cut file (the folder has: {', '.join(have) or 'no cut CSV'})")
-        return pd.read_csv(path)
-
-    def joint(self, name: str):
-        """The joint `name`: `joint_<name>.csv` (rows by section, then position)."""
-        import pandas as pd
-
-        path = self.folder / f"joint_{name}.csv"
-        if not path.is_file():
-            have = sorted(p.name for p in self.folder.glob("joint_*.csv"))
-            raise InputError(f"{path}: no such joint file (the folder has: {', '.join(have) or 'no joint CSV'})")
-        return pd.read_csv(path)
-
-    @property
-    def load_path(self):
-        """load_path.csv of a stepped run, else `None`."""
-        import pandas as pd
-
-        path = self.folder / "load_path.csv"
-        return pd.read_csv(path) if path.is_file() else None
-
-    @property
-    def displacement(self):
-        """displacement.f64 as a numpy array `[M + 1, 2, nodes, 3]`:
-        `[harmonic][family S, A][node][u_r, u_z, u_theta]` (docs/outputs.md)."""
-        import numpy as np
-
-        d = self.solution["displacement"]
-        return np.fromfile(self.folder / d["file"], dtype="<f8").reshape(d["shape"])
-
-    def close(self) -> None:
-        """Removes the temporary folder now (no-op for a given `output`)."""
-        if self._tmp is not None:
-            self._tmp.cleanup()
-            self._tmp = None
-
-
-class Cases:
-    """The folder of a scene with `load_cases`: `index` (cases.json as a
-    dict) and one `Result` per case, by name (`cases["uplift"]`), each
-    solved from the same initial state on one set of factors."""
-
-    def __init__(self, folder: Path, tmp: tempfile.TemporaryDirectory | None = None):
-        self.folder = Path(folder)
-        self._tmp = tmp
-        self.index = json.loads((self.folder / "cases.json").read_text())
-
-    def __repr__(self) -> str:
-        return f"axijoint.Cases({str(self.folder)!r})"
-
-    @property
-    def names(self) -> list[str]:
-        """The cases, in the scene's order."""
-        return [c["name"] for c in self.index["cases"]]
-
-    def __getitem__(self, name: str) -> Result:
-        for c in self.index["cases"]:
-            if c["name"] == name:
-                if not c["converged"]:
-                    raise InputError(f"load case {name}: {c.get('error')}")
-                return Result(self.folder / c["folder"])
-        raise InputError(f"no load case {name!r} (the scene has: {', '.join(self.names)})")
-
-    def close(self) -> None:
-        """Removes the temporary folder now (no-op for a given `output`)."""
-        if self._tmp is not None:
-            self._tmp.cleanup()
-            self._tmp = None
-
-
-def run(
-    scene,
-    output=None,
-    *,
-    overrides: Mapping[str, Any] | None = None,
-    base_dir=None,
-    report: bool = True,
-    without_joints: bool | None = None,
-    **kwargs,
-) -> Result | Cases:
-    """Meshes, solves and reports a scene, as `axijoint run SCENE -o OUTPUT`.
-
-    `scene`: a scene file, or a dict in the scene format; a dict's relative
-    `mesh.file` is resolved against `base_dir` (default: the current
-    folder). `overrides`: key paths to values, applied to the scene first
-    (`{"joints.pile_side.law.cohesion": 0.3, "loads[0].force[0]": 0.8}`);
-    keyword arguments are more of them, `__` standing for `.`
-    (`harmonics=2`, `mesh__parameters__size=0.5`). `output`: the solution
-    folder (None: a temporary one, removed with the result). `report=False`
-    skips the report (no summary.json, CSV or plots); `without_joints`:
-    whether to solve the comparison run without joints (None: as the
-    scene's `outputs.compare_without_joints`, default true).
-
-    A failure raises `axijoint.Error` (a subclass per exit status of the
-    binary, `exit_status` set) with the binary's message. A stepped run that
-    stops at its limit load factor is no failure here: see
-    `Result.complete`, `Result.limit_load_factor`, `Result.exit_status`.
-    A scene with `load_cases` gives `Cases` (a `Result` per case).
-    """
-    path, text = _scene_source(scene, base_dir, _overrides(overrides, kwargs))
-    tmp = None
-    if output is None:
-        tmp = tempfile.TemporaryDirectory(prefix="axijoint-")
-        out = Path(tmp.name) / "run"
-    else:
-        out = Path(output)
-    try:
-        _native.run(path, text, os.fspath(out), report, without_joints)
-    except BaseException:
-        if tmp is not None:
-            tmp.cleanup()
-        raise
-    if (out / "cases.json").is_file() and not (out / "solution.json").is_file():
-        return Cases(out, tmp)
-    return Result(out, tmp)
-
-
-from ._sweep import grid_cells, sweep  # noqa: E402

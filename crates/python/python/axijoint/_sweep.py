@@ -12,6 +12,12 @@ from pathlib import Path
 from typing import Any, Mapping, Sequence
 
 # Report files a sweep does not need: summary.json alone is written.
+_GUARD = (
+    "a script that calls axijoint.sweep must call it under `if __name__ == \"__main__\":` "
+    "(each worker process of the local cluster imports the script again), "
+    "or pass the address of a running cluster as `client`"
+)
+
 _NO_FILES = {"outputs.csv": False, "outputs.plots": False, "outputs.vtu": False, "outputs.gmsh_views": False}
 
 
@@ -109,7 +115,7 @@ def sweep(
     import pandas as pd
     from dask.distributed import Client, LocalCluster
 
-    from . import _overrides, _scene_source
+    from ._api import _overrides, _scene_source
 
     cells = grid_cells(grid)
     path, text = _scene_source(scene, base_dir, _overrides(overrides, {}))
@@ -117,10 +123,18 @@ def sweep(
 
     own_cluster = own_client = None
     if client is None:
+        import __main__
+
+        if getattr(__main__, "__name__", None) == "__mp_main__":
+            # A worker process importing the user's script again.
+            raise RuntimeError(_GUARD)
         workers = n_workers or os.cpu_count() or 1
-        own_cluster = LocalCluster(
-            n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None
-        )
+        try:
+            own_cluster = LocalCluster(
+                n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None
+            )
+        except Exception as e:
+            raise RuntimeError(f"the local dask cluster did not start ({e}); {_GUARD}") from e
         client = own_client = Client(own_cluster)
         if threads_per_cell is None:
             threads_per_cell = 1

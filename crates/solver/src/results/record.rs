@@ -223,3 +223,41 @@ pub struct AdaptCycle {
     /// Wall-clock seconds of the cycle.
     pub seconds: f64,
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `harmonic_check` is absent (a last iterate), `null` (a nonlinear run
+    /// with M < 2) or an object; each reads back as written, and a record
+    /// writes only the keys that apply.
+    #[test]
+    fn a_record_reads_back_as_written() {
+        let check = HarmonicCheck {
+            m: 4,
+            m_half: 2,
+            face_change: Some(1e-3),
+            area_change: None,
+            note: None,
+        };
+        for harmonic_check in [None, Some(None), Some(Some(check))] {
+            let r = RunRecord {
+                harmonic_check,
+                iterations: Some(3),
+                loading: Some(Loading::Auto),
+                ..RunRecord::default()
+            };
+            let text = serde_json::to_string(&r).unwrap();
+            assert_eq!(
+                text.contains("harmonic_check"),
+                r.harmonic_check.is_some(),
+                "{text}"
+            );
+            assert_eq!(serde_json::from_str::<RunRecord>(&text).unwrap(), r, "{text}");
+        }
+        let last: RunRecord =
+            serde_json::from_str(r#"{"converged": false, "complete": false, "error": "stalled"}"#).unwrap();
+        assert!(!last.converged() && !last.complete() && last.limit().is_none());
+        assert_eq!(serde_json::to_string(&RunRecord::default()).unwrap(), "{}");
+    }
+}

@@ -1,10 +1,12 @@
 //! Semantic checks of a scene: values alone, then names against a mesh.
 
+use super::error::NameKind;
 use super::{Family, JointLaw, Load, Outputs, RuleKind, Scene, SceneError, VtuSections};
 use crate::loads::{
     face_section, point_locations, point_off_axis, tolerance, ANTISYMMETRIC_ZERO, RING_ON_AXIS,
 };
 use crate::material::MaterialError;
+use crate::short::Short;
 use axijoint_mesh::{CellEdges, CurveSet, JointKind, Mesh};
 use std::collections::BTreeSet;
 
@@ -16,6 +18,11 @@ fn list<'a>(names: impl Iterator<Item = &'a str>) -> String {
     } else {
         v.join(", ")
     }
+}
+
+/// [`super::error::nearest`], owned.
+fn suggest<'a>(name: &str, known: impl IntoIterator<Item = &'a str>) -> Option<Box<str>> {
+    super::error::nearest(name, known).map(Box::from)
 }
 
 /// True if `text` has `name` as a whole identifier (letters, digits, `_`).
@@ -39,7 +46,7 @@ impl Scene {
 
     fn finite(&self, key: &str, values: &[f64]) -> Result<(), SceneError> {
         match values.iter().find(|v| !v.is_finite()) {
-            Some(v) => Err(self.invalid(key, format!("{v} is not a finite number"))),
+            Some(v) => Err(self.invalid(key, format!("{} is not a finite number", Short(*v)))),
             None => Ok(()),
         }
     }
@@ -112,7 +119,10 @@ impl Scene {
         if !(eps > 0.0 && eps < 1.0) {
             return Err(self.invalid(
                 "solver.epsilon",
-                format!("{eps} is not allowed: the residual ratio tolerance lies strictly between 0 and 1"),
+                format!(
+                    "{} is not allowed: the residual ratio tolerance lies strictly between 0 and 1",
+                    Short(eps)
+                ),
             ));
         }
         if self.solver.max_iterations == 0 {
@@ -155,8 +165,7 @@ impl Scene {
             Some("msh") => Ok(()),
             Some("geo") => {
                 let path = self.mesh_path();
-                let text =
-                    std::fs::read_to_string(&path).map_err(|source| SceneError::Io { path, source })?;
+                let text = std::fs::read_to_string(&path).map_err(|error| SceneError::Io { path, error })?;
                 match self.mesh.parameters.keys().find(|k| !uses_identifier(&text, k)) {
                     Some(name) => Err(self.invalid(
                         format!("mesh.parameters.{name}"),
@@ -225,12 +234,12 @@ impl Scene {
             } => {
                 self.finite(&key("surface_z"), &[surface_z])?;
                 if !(k0.is_finite() && k0 >= 0.0) {
-                    return Err(self.invalid(key("K0"), format!("{k0} is not allowed: K0 >= 0")));
+                    return Err(self.invalid(key("K0"), format!("{} is not allowed: K0 >= 0", Short(k0))));
                 }
                 if !(surcharge.is_finite() && surcharge >= 0.0) {
                     return Err(self.invalid(
                         key("surcharge"),
-                        format!("{surcharge} is not allowed: a surface pressure >= 0"),
+                        format!("{} is not allowed: a surface pressure >= 0", Short(surcharge)),
                     ));
                 }
                 Ok(())
@@ -262,7 +271,10 @@ impl Scene {
         if let Err(crate::elements::JointError::Stiffness { name: k, value }) = joint.springs().validate() {
             return Err(self.invalid(
                 key(k),
-                format!("{value} is not allowed: a stiffness is a finite number >= 0"),
+                format!(
+                    "{} is not allowed: a stiffness is a finite number >= 0",
+                    Short(value)
+                ),
             ));
         }
         if joint.bottom.is_some() != joint.top.is_some() {
@@ -275,7 +287,10 @@ impl Scene {
         if let JointLaw::MohrCoulomb(mc) = joint.law {
             let law = |k: &str| key(&format!("law.{k}"));
             if !(mc.cohesion.is_finite() && mc.cohesion >= 0.0) {
-                return Err(self.invalid(law("cohesion"), format!("{} is not allowed: C >= 0", mc.cohesion)));
+                return Err(self.invalid(
+                    law("cohesion"),
+                    format!("{} is not allowed: C >= 0", Short(mc.cohesion)),
+                ));
             }
             if !(0.0..90.0).contains(&mc.friction_deg) {
                 return Err(self.invalid(
@@ -290,14 +305,14 @@ impl Scene {
             if !(t.is_finite() && t >= 0.0) {
                 return Err(self.invalid(
                     law("tensile_strength"),
-                    format!("{t} is not allowed: it must be >= 0"),
+                    format!("{} is not allowed: it must be >= 0", Short(t)),
                 ));
             }
             let apex = mc.cohesion / mc.tan_phi();
             if t > apex {
                 return Err(self.invalid(
                     law("tensile_strength"),
-                    format!("{t} lies beyond the Mohr-Coulomb apex C / tan(phi) = {apex}, where the shear strength is zero"),
+                    format!("{} lies beyond the Mohr-Coulomb apex C / tan(phi) = {}, where the shear strength is zero", Short(t), Short(apex)),
                 ));
             }
         }
@@ -382,7 +397,10 @@ impl Scene {
             for (k, p) in [("from", cut.from), ("to", cut.to)] {
                 self.finite(&key(k), &p)?;
                 if p[0] < 0.0 {
-                    return Err(self.invalid(key(k), format!("r = {} < 0: the mesh lives in r >= 0", p[0])));
+                    return Err(self.invalid(
+                        key(k),
+                        format!("r = {} < 0: the mesh lives in r >= 0", Short(p[0])),
+                    ));
                 }
             }
             if cut.from == cut.to {
@@ -391,7 +409,7 @@ impl Scene {
             if !(cut.spacing.is_finite() && cut.spacing > 0.0) {
                 return Err(self.invalid(
                     key("spacing"),
-                    format!("{} is not allowed: it must be > 0", cut.spacing),
+                    format!("{} is not allowed: it must be > 0", Short(cut.spacing)),
                 ));
             }
             if cut.component_index().is_none() {
@@ -421,9 +439,10 @@ impl Scene {
         mesh.curve(name).ok_or_else(|| SceneError::UnknownName {
             path: self.path.clone(),
             key: key.into(),
-            what: "curve",
+            what: NameKind::Curve,
             name: name.into(),
             known: list(mesh.curves.iter().map(|c| c.name.as_str())),
+            suggestion: suggest(name, mesh.curves.iter().map(|c| c.name.as_str())),
         })
     }
 
@@ -439,9 +458,10 @@ impl Scene {
             .ok_or_else(|| SceneError::UnknownName {
                 path: self.path.clone(),
                 key: key.into(),
-                what: "point",
+                what: NameKind::Point,
                 name: name.into(),
                 known: list(mesh.points.iter().map(|p| p.name.as_str())),
+                suggestion: suggest(name, mesh.points.iter().map(|p| p.name.as_str())),
             })
     }
 
@@ -451,9 +471,10 @@ impl Scene {
             None => Err(SceneError::UnknownName {
                 path: self.path.clone(),
                 key,
-                what: "surface",
+                what: NameKind::Surface,
                 name: name.into(),
                 known: list(mesh.bodies.iter().map(|b| b.name.as_str())),
+                suggestion: suggest(name, mesh.bodies.iter().map(|b| b.name.as_str())),
             }),
         }
     }
@@ -499,17 +520,19 @@ impl Scene {
             if let Some(curve) = mesh.curve(&s.on) {
                 on_edges(curve, &format!("supports[{i}].on"))?;
             } else if mesh.point(&s.on).is_none() {
-                let known = mesh
-                    .curves
-                    .iter()
-                    .map(|c| c.name.as_str())
-                    .chain(mesh.points.iter().map(|p| p.name.as_str()));
+                let known = || {
+                    mesh.curves
+                        .iter()
+                        .map(|c| c.name.as_str())
+                        .chain(mesh.points.iter().map(|p| p.name.as_str()))
+                };
                 return Err(SceneError::UnknownName {
                     path: self.path.clone(),
                     key: format!("supports[{i}].on"),
-                    what: "curve or point",
+                    what: NameKind::CurveOrPoint,
                     name: s.on.clone(),
-                    known: list(known),
+                    known: list(known()),
+                    suggestion: suggest(&s.on, known()),
                 });
             }
         }

@@ -9,12 +9,12 @@ use std::path::PathBuf;
 #[derive(Debug, thiserror::Error)]
 pub enum SceneError {
     /// A file could not be read (the scene, or the `.geo` it names).
-    #[error("{path}: cannot read: {source}")]
+    #[error("{path}: cannot read: {error}")]
     Io {
         /// The file.
         path: PathBuf,
-        /// The OS error.
-        source: std::io::Error,
+        /// The OS error (in the message, not a source: said once).
+        error: std::io::Error,
     },
     /// The JSON is malformed, or a value has the wrong type or shape, or a
     /// key is unknown or missing.
@@ -43,18 +43,23 @@ pub enum SceneError {
         message: String,
     },
     /// A physical name that the mesh does not have.
-    #[error("{path}: {key}: the mesh has no physical {what} named '{name}' (it has: {known})")]
+    #[error(
+        "{path}: {key}: the mesh has no physical {what} named '{name}'{} (it has: {known})",
+        did_you_mean(.suggestion.as_deref())
+    )]
     UnknownName {
         /// The scene file.
         path: PathBuf,
         /// Key path of the name.
         key: String,
-        /// `surface`, `curve`, `point` or `curve or point`.
-        what: &'static str,
+        /// What kind of physical group.
+        what: NameKind,
         /// The name asked for.
         name: String,
         /// The names of that kind the mesh has, comma separated.
         known: String,
+        /// The nearest of them, when one is near ([`nearest`]).
+        suggestion: Option<Box<str>>,
     },
 }
 
@@ -81,5 +86,46 @@ impl SceneError {
             | SceneError::Invalid { key, .. }
             | SceneError::UnknownName { key, .. } => Some(key),
         }
+    }
+}
+
+/// `"; did you mean 'x'?"` for a suggestion, else nothing.
+pub fn did_you_mean(suggestion: Option<&str>) -> String {
+    suggestion.map_or_else(String::new, |s| format!("; did you mean '{s}'?"))
+}
+
+/// The name of `known` nearest to `name` when it is near: at most a quarter
+/// of the longer name's characters edited (at least one; transpositions
+/// count once), ties to the first.
+pub fn nearest<'a>(name: &str, known: impl IntoIterator<Item = &'a str>) -> Option<&'a str> {
+    known
+        .into_iter()
+        .map(|k| (strsim::damerau_levenshtein(name, k), k))
+        .filter(|&(d, k)| d > 0 && d <= (name.chars().count().max(k.chars().count()) / 4).max(1))
+        .min_by_key(|&(d, _)| d)
+        .map(|(_, k)| k)
+}
+
+/// The kind of physical group a name was looked up among.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum NameKind {
+    /// A physical surface (a body).
+    Surface,
+    /// A physical curve.
+    Curve,
+    /// A physical point.
+    Point,
+    /// A curve, else a point (a support).
+    CurveOrPoint,
+}
+
+impl std::fmt::Display for NameKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            NameKind::Surface => "surface",
+            NameKind::Curve => "curve",
+            NameKind::Point => "point",
+            NameKind::CurveOrPoint => "curve or point",
+        })
     }
 }

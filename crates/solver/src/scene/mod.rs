@@ -33,7 +33,7 @@ mod joint;
 mod load;
 mod settings;
 
-pub use error::SceneError;
+pub use error::{did_you_mean, nearest, NameKind, SceneError};
 pub use joint::{JointConfig, JointLaw, MohrCoulomb, RuleKind, ShearCheck};
 pub use load::{Family, Linear, Load, PointLoad, ResultantLoad, RingLoad, TractionLoad};
 pub use settings::{
@@ -189,9 +189,9 @@ impl Scene {
     /// [`Scene::check`]).
     pub fn from_path(path: impl AsRef<Path>) -> Result<Scene, SceneError> {
         let path = path.as_ref();
-        let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
+        let text = std::fs::read_to_string(path).map_err(|error| SceneError::Io {
             path: path.to_path_buf(),
-            source,
+            error,
         })?;
         Scene::from_str(&text, path)
     }
