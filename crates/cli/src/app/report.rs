@@ -215,33 +215,79 @@ pub fn estimated_error(rows: &[(String, f64, f64)]) -> PerProfile {
 /// (docs/accuracy.md), a warning for each profile above
 /// [`ESTIMATE_WARNING`].
 fn print_estimates(summary: &Summary) {
-    let energy = summary.estimated_energy_error;
-    let mut rows = Vec::new();
+    for line in estimate_lines(summary) {
+        crate::say!("{line}");
+    }
+}
+
+/// Profiles listed per cut on the console; beyond, the worst of them.
+const LISTED: usize = 4;
+
+/// The console lines of the estimated errors: per cut its profiles in
+/// order of angle (the [`LISTED`] - 1 worst when it has more, with how
+/// many are left out), the energy norm; then a warning per profile above
+/// [`ESTIMATE_WARNING`] (one per cut when more than [`LISTED`] are).
+pub fn estimate_lines(summary: &Summary) -> Vec<String> {
+    let angle = |t: &str| t.replace('m', "-").parse::<f64>().unwrap_or(f64::NAN);
+    let mut parts = Vec::new();
+    let mut warnings = Vec::new();
     for (cut, per_theta) in &summary.estimated_error {
-        for (t, e) in per_theta {
-            rows.push((cut.clone(), t.clone(), *e));
+        let mut rows: Vec<(&str, f64)> = per_theta.iter().map(|(t, e)| (t.as_str(), *e)).collect();
+        rows.sort_by(|a, b| angle(a.0).total_cmp(&angle(b.0)));
+        let above: Vec<_> = rows
+            .iter()
+            .filter(|r| r.1 > ESTIMATE_WARNING || r.1.is_nan())
+            .collect();
+        let mut shown = rows.clone();
+        let mut rest = String::new();
+        if rows.len() > LISTED {
+            let mut worst = rows.clone();
+            worst.sort_by(|a, b| b.1.total_cmp(&a.1));
+            let cut_at = worst[LISTED - 1].1;
+            worst.truncate(LISTED - 1);
+            shown.retain(|r| worst.iter().any(|w| w.0 == r.0));
+            rest = format!(
+                " and {} more up to {:.2} %",
+                rows.len() - shown.len(),
+                100.0 * cut_at
+            );
+        }
+        let listed: Vec<String> = shown
+            .iter()
+            .map(|(t, e)| format!("{cut} theta {t}: {:.2} %", 100.0 * e))
+            .collect();
+        parts.push(format!("{}{rest}", listed.join(", ")));
+        if above.len() > LISTED {
+            let worst = above.iter().fold(above[0], |w, r| if r.1 > w.1 { r } else { w });
+            warnings.push(format!(
+                "  WARNING: cut {cut}: estimated error above {} % of the max |stress| at {} of {} angles (worst {:.1} % at theta {} deg): refine the mesh there or set mesh.adapt (docs/accuracy.md)",
+                100.0 * ESTIMATE_WARNING,
+                above.len(),
+                rows.len(),
+                100.0 * worst.1,
+                worst.0
+            ));
+        } else {
+            for (t, e) in above {
+                warnings.push(format!(
+                    "  WARNING: cut {cut} at theta {t} deg: estimated error {:.1} % of its max |stress| (above {} %): refine the mesh there or set mesh.adapt (docs/accuracy.md)",
+                    100.0 * e,
+                    100.0 * ESTIMATE_WARNING
+                ));
+            }
         }
     }
-    let parts: Vec<String> = rows
-        .iter()
-        .map(|(cut, t, e)| format!("{cut} theta {t}: {:.2} %", 100.0 * e))
-        .collect();
-    crate::say!(
+    let mut lines = vec![format!(
         "  estimated error: {}{:.2} % in the energy norm",
         if parts.is_empty() {
             String::new()
         } else {
             format!("{} (of each profile's max |stress|); ", parts.join(", "))
         },
-        100.0 * energy
-    );
-    for (cut, t, e) in rows.iter().filter(|r| r.2 > ESTIMATE_WARNING || r.2.is_nan()) {
-        crate::say!(
-            "  WARNING: cut {cut} at theta {t} deg: estimated error {:.1} % of its max |stress| (above {} %): refine the mesh there or set mesh.adapt (docs/accuracy.md)",
-            100.0 * e,
-            100.0 * ESTIMATE_WARNING
-        );
-    }
+        100.0 * summary.estimated_energy_error
+    )];
+    lines.extend(warnings);
+    lines
 }
 
 /// Legend labels that tell folders apart: each folder's name, or as many
@@ -299,6 +345,62 @@ pub fn run_labels(dirs: &[PathBuf]) -> Vec<String> {
 
 #[cfg(test)]
 mod tests {
+    use super::{estimate_lines, Summary};
+
+    /// A summary with the estimates `rows` (cut, angle as in file names, error).
+    fn summary(rows: &[(&str, &str, f64)]) -> Summary {
+        let mut s: Summary = serde_json::from_str(
+            r#"{"adapt": null, "auto_harmonics": null, "complete": true, "converged": true,
+                "dofs_per_harmonic": 1, "error": null, "estimated_energy_error": 0.01,
+                "estimated_error": {}, "files": [], "harmonic_check": null, "harmonics": [0],
+                "initial": null, "iterations": null, "joints": {}, "limit_load_factor": null,
+                "load_factor": null, "load_steps": null, "loaded_faces": {}, "loading": null,
+                "max_displacement": 0.0, "nodes": 1, "note": null, "scene": "s.json",
+                "title": "t", "units": {"length": "m", "force": "MN", "stress": "MPa"}}"#,
+        )
+        .unwrap();
+        for (cut, t, e) in rows {
+            s.estimated_error
+                .entry(cut.to_string())
+                .or_default()
+                .insert(t.to_string(), *e);
+        }
+        s
+    }
+
+    #[test]
+    fn estimates_are_listed_by_angle_and_shortened() {
+        let two = estimate_lines(&summary(&[("a", "180", 0.006), ("a", "0", 0.016)]));
+        assert_eq!(
+            two,
+            ["  estimated error: a theta 0: 1.60 %, a theta 180: 0.60 % (of each profile's max |stress|); 1.00 % in the energy norm"]
+        );
+        // 16 angles, named as strings would sort them (112.5 before 22.5).
+        let angles = [
+            0.0, 22.5, 45.0, 67.5, 90.0, 112.5, 135.0, 157.5, 180.0, 202.5, 225.0, 247.5, 270.0, 292.5,
+            315.0, 337.5,
+        ];
+        let names: Vec<String> = angles.iter().map(|t: &f64| format!("{t}")).collect();
+        let rows: Vec<(&str, &str, f64)> = names
+            .iter()
+            .zip(angles)
+            .map(|(n, t)| ("b", n.as_str(), 0.01 + 0.1 * (t / 360.0)))
+            .collect();
+        let lines = estimate_lines(&summary(&rows));
+        assert!(
+            lines[0].contains(
+                "b theta 292.5: 9.12 %, b theta 315: 9.75 %, b theta 337.5: 10.38 % and 13 more up to 8.50 %"
+            ),
+            "{lines:?}"
+        );
+        // 9 above 5 % (from 157.5 deg on): one warning for the cut, naming the worst.
+        assert_eq!(lines.len(), 2, "{lines:?}");
+        assert!(
+            lines[1].contains("at 9 of 16 angles (worst 10.4 % at theta 337.5 deg)"),
+            "{lines:?}"
+        );
+    }
+
     use super::run_labels;
 
     #[test]
