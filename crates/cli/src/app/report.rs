@@ -221,7 +221,7 @@ fn print_estimates(summary: &Summary) {
 }
 
 /// Profiles listed per cut on the console; beyond, the worst of them.
-const LISTED: usize = 4;
+pub const LISTED: usize = 4;
 
 /// The console lines of the estimated errors: per cut its profiles in
 /// order of angle (the [`LISTED`] - 1 worst when it has more, with how
