@@ -178,4 +178,7 @@ fn print_faces(scene: &Scene, header: &SolutionHeader, out: &Path) {
         );
     }
     crate::say!("  written to {}", out.display());
+    for w in header.record.iter().flat_map(|r| &r.warnings) {
+        crate::say!("  WARNING: {w}");
+    }
 }

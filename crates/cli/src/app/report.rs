@@ -68,6 +68,8 @@ pub struct Summary {
     pub title: String,
     /// The scene's units.
     pub units: Units,
+    /// Plausibility warnings (docs/outputs.md, "Warnings").
+    pub warnings: Vec<String>,
 }
 
 /// A joint's areas by state (length^2).
@@ -191,6 +193,7 @@ pub fn write_outputs(dir: &Path, compare: &[PathBuf]) -> Result<Summary> {
         scene: h.scene_file.clone(),
         title: h.scene.title.clone(),
         units: h.scene.units.clone(),
+        warnings: record.warnings.clone(),
     };
     let path = dir.join("summary.json");
     axijoint_mesh::atomic::write_bytes(&path, serde_json::to_string_pretty(&summary)?.as_bytes())?;
@@ -356,7 +359,8 @@ mod tests {
                 "initial": null, "iterations": null, "joints": {}, "limit_load_factor": null,
                 "load_factor": null, "load_steps": null, "loaded_faces": {}, "loading": null,
                 "max_displacement": 0.0, "nodes": 1, "note": null, "scene": "s.json",
-                "title": "t", "units": {"length": "m", "force": "MN", "stress": "MPa"}}"#,
+                "title": "t", "units": {"length": "m", "force": "MN", "stress": "MPa"},
+                "warnings": []}"#,
         )
         .unwrap();
         for (cut, t, e) in rows {

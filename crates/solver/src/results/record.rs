@@ -66,6 +66,10 @@ pub struct RunRecord {
     /// The joint sections (degrees).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sections_deg: Option<Vec<f64>>,
+    /// Plausibility warnings (a slip of units or scale, more harmonics
+    /// than the answer needs).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
 }
 
 /// A field present in the JSON, `null` included (`Some(None)`).

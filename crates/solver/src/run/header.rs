@@ -79,6 +79,7 @@ pub fn record(scene: &Scene, run: &Run) -> Option<RunRecord> {
             steps: run.auto_steps.clone(),
         });
     }
+    r.warnings = super::plausible::warnings(scene, run);
     (r != RunRecord::default()).then_some(r)
 }
 

@@ -3,7 +3,8 @@
 //! ```text
 //! scene -> model (model.rs) -> factors (factors.rs) -> elastic run (elastic.rs)
 //!       -> initial phase (initial.rs) -> iteration (nonlinear.rs, check.rs)
-//!       -> measures (measures.rs) -> Run -> header and record (header.rs)
+//!       -> measures (measures.rs) -> Run -> warnings (plausible.rs)
+//!       -> header and record (header.rs)
 //! ```
 //!
 //! [`solve_scene`] solves a scene's loads, [`solve_cases`] each of its load
@@ -21,6 +22,7 @@ mod initial;
 mod measures;
 mod model;
 mod nonlinear;
+mod plausible;
 
 pub use auto::solve_scene_auto;
 pub use cases::{solve_cases, Cases};
@@ -34,6 +36,9 @@ pub use measures::{
 pub use model::{
     build_model, iteration_settings, mesh_scene, scene_sections, support_flags, support_nodes,
     REFERENCE_STIFFNESS,
+};
+pub use plausible::{
+    warnings, LARGE_DISPLACEMENT, MANY_HARMONICS, MODULUS_CONTRAST, SAME_AREAS, SAME_FACES, WEIGHT_STRAIN,
 };
 
 use crate::error::SolverError;
