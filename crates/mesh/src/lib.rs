@@ -25,10 +25,10 @@
 //! Validation: [`validate()`] refuses nodes at r < 0 and cells whose
 //! Jacobian vanishes or changes sign anywhere in the cell (bounded over the
 //! whole cell by [`geometry::jacobian_range`], not sampled at corners and
-//! Gauss points), and renumbers surfaces meshed clockwise; [`CellEdges`]
-//! checks that the line elements of the curves a caller uses (joints in
-//! [`insert_joints`], supports and loads in the solver's scene check) are
-//! edges of cells.
+//! Gauss points), renumbers surfaces meshed clockwise, and refuses a line
+//! element of any physical curve that is not an edge of a cell
+//! ([`CellEdges`]; a caller that names a curve, as the solver's scene check
+//! does, checks it first to name its own key).
 
 pub mod atomic;
 pub mod error;

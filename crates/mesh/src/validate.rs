@@ -135,6 +135,12 @@ pub fn validate(mesh: &mut Mesh, path: &Path) -> Result<Validation, MeshError> {
             report.reoriented += 1;
         }
     }
+    // Every physical curve's line elements lie on cell edges, whether or
+    // not a scene uses the curve.
+    let edges = CellEdges::new(mesh);
+    for curve in &mesh.curves {
+        edges.check(curve, path)?;
+    }
     Ok(report)
 }
 

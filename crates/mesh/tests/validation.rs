@@ -206,9 +206,17 @@ fn line_element_to_an_interior_node_is_named() {
     check_curve_edges(&jointed, &["bottom", "middle"], Path::new("grid.msh")).unwrap();
 
     let bad = replace_line(&good, "21 1 2 2 1 2 3", "21 1 2 2 1 3 5");
-    let mut mesh = mesh_of(&bad, "grid_bad_bottom.msh");
-    // The cells are fine: only a caller that uses the curve can tell.
-    validate(&mut mesh, Path::new("grid_bad_bottom.msh")).unwrap();
+    let mesh = mesh_of(&bad, "grid_bad_bottom.msh");
+    // The cells are fine, the curve is not: validation checks every
+    // physical curve, used or not.
+    let e = validate(&mut mesh.clone(), Path::new("grid_bad_bottom.msh")).unwrap_err();
+    assert_mentions(
+        &e,
+        &[
+            "grid_bad_bottom.msh: physical curve 'bottom': line element 21",
+            "no element has an edge from node 3 to node 5",
+        ],
+    );
     check_curve_edges(&mesh, &["middle"], Path::new("grid_bad_bottom.msh")).unwrap();
     let e = check_curve_edges(&mesh, &["middle", "bottom"], Path::new("grid_bad_bottom.msh")).unwrap_err();
     assert!(matches!(e, MeshError::Invalid { .. }));
