@@ -482,3 +482,74 @@ fn scene_curve_off_the_element_edges_is_named() {
         assert!(stderr.contains(part), "'{stderr}' does not mention '{part}'");
     }
 }
+
+/// gmsh dies with `axijoint`: a run killed while gmsh meshes (SIGTERM to
+/// `axijoint` alone, as a scheduler or a user's `kill` sends it) leaves no
+/// gmsh meshing on as an orphan.
+#[cfg(target_os = "linux")]
+#[test]
+fn gmsh_dies_with_a_killed_run() {
+    use std::time::{Duration, Instant};
+    // The children of `pid` (from /proc), and whether `pid` still runs
+    // (a zombie does not).
+    let children = |pid: u32| -> Vec<u32> {
+        std::fs::read_to_string(format!("/proc/{pid}/task/{pid}/children"))
+            .unwrap_or_default()
+            .split_whitespace()
+            .filter_map(|p| p.parse().ok())
+            .collect()
+    };
+    let running = |pid: u32| {
+        std::fs::read_to_string(format!("/proc/{pid}/stat"))
+            .ok()
+            .and_then(|s| {
+                s.rsplit(") ")
+                    .next()
+                    .map(|r| !r.starts_with('Z') && !r.starts_with('X'))
+            })
+            .unwrap_or(false)
+    };
+    // A mesh gmsh takes well over the seconds this test needs.
+    let mut run = std::process::Command::new(env!("CARGO_BIN_EXE_axijoint"))
+        .args(["--no-cache", "mesh"])
+        .arg(geo("pile_footing.geo"))
+        .args(["--set", "size=0.005"])
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let start = Instant::now();
+    let gmsh = loop {
+        if let Some(&g) = children(run.id()).first() {
+            break g;
+        }
+        assert!(start.elapsed() < Duration::from_secs(30), "gmsh did not start");
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    std::thread::sleep(Duration::from_millis(300));
+    assert!(running(gmsh), "gmsh meshes");
+    // SIGTERM to axijoint alone.
+    terminate(run.id());
+    run.wait().unwrap();
+    let start = Instant::now();
+    // Killed with its parent it stops at once; without that it went on
+    // until its next write to the closed pipe (4.5 s measured here).
+    while running(gmsh) {
+        assert!(
+            start.elapsed() < Duration::from_secs(1),
+            "gmsh (pid {gmsh}) still meshes after axijoint was killed"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+/// `kill -TERM pid` (the command, so the test needs no unsafe code).
+#[cfg(target_os = "linux")]
+fn terminate(pid: u32) {
+    let ok = std::process::Command::new("kill")
+        .args(["-TERM", &pid.to_string()])
+        .status()
+        .unwrap()
+        .success();
+    assert!(ok, "kill -TERM {pid}");
+}

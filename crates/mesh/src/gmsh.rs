@@ -14,6 +14,33 @@ pub fn gmsh_program() -> PathBuf {
         .unwrap_or_else(|| PathBuf::from("gmsh"))
 }
 
+/// Makes the child die with this process (Linux: `PR_SET_PDEATHSIG`): a
+/// killed run must not leave gmsh meshing, and holding gigabytes, as an
+/// orphan. The signal follows the thread that spawns the child, which
+/// waits for it in [`mesh_geo`].
+#[cfg(target_os = "linux")]
+fn dies_with_this_process(cmd: &mut Command) {
+    use std::os::unix::process::CommandExt;
+    let parent = std::process::id();
+    // SAFETY: the closure runs in the forked child before exec and calls
+    // only async-signal-safe functions (prctl, getppid).
+    unsafe {
+        cmd.pre_exec(move || {
+            if libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGKILL) != 0 {
+                return Err(std::io::Error::last_os_error());
+            }
+            // The parent died before the prctl took effect.
+            if libc::getppid() as u32 != parent {
+                return Err(std::io::Error::other("the parent process is gone"));
+            }
+            Ok(())
+        });
+    }
+}
+
+#[cfg(not(target_os = "linux"))]
+fn dies_with_this_process(_cmd: &mut Command) {}
+
 /// Meshes `geo` in 2D with gmsh into `msh` (MSH 4.1 ASCII), passing each
 /// `(name, value)` as `-setnumber name value`.
 ///
@@ -31,6 +58,7 @@ pub fn mesh_geo(geo: &Path, parameters: &[(String, f64)], msh: &Path) -> Result<
     for (name, value) in parameters {
         cmd.arg("-setnumber").arg(name).arg(format!("{value:?}"));
     }
+    dies_with_this_process(&mut cmd);
     let out = cmd.output().map_err(|e| match e.kind() {
         std::io::ErrorKind::NotFound => MeshError::GmshMissing {
             path: geo.to_path_buf(),
