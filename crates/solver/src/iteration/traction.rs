@@ -63,13 +63,15 @@ pub(super) struct Traction<'s, 'a> {
     /// `Dd^-1 Dv` per (section, point): the preconditioner's tangent.
     tangents: Vec<Tangent>,
     pre: Option<BlockPreconditioner>,
+    /// See [`IterationSettings::coupled_max`](super::types::IterationSettings::coupled_max).
+    coupled_max: usize,
     /// Scratch: section forces and displacements.
     x: Vec<f64>,
     u_s: Vec<f64>,
 }
 
 impl<'s, 'a> Traction<'s, 'a> {
-    pub(super) fn new(sweep: Sweep<'s, 'a>) -> Self {
+    pub(super) fn new(sweep: Sweep<'s, 'a>, coupled_max: usize) -> Self {
         let setup = sweep.setup;
         let rho = setup
             .model
@@ -95,6 +97,7 @@ impl<'s, 'a> Traction<'s, 'a> {
             dd_inv: vec![I3; n],
             tangents: vec![None; n],
             pre: None,
+            coupled_max,
             x: vec![0.0; setup.len()],
             u_s: vec![0.0; setup.len()],
         }
@@ -208,6 +211,7 @@ impl Formulation for Traction<'_, '_> {
             dd_inv,
             tangents,
             pre,
+            coupled_max,
             ..
         } = self;
         let (sweep, s) = (&*sweep, sweep.setup);
@@ -247,7 +251,7 @@ impl Formulation for Traction<'_, '_> {
         // Refactorized at every step: reusing it while the states stay the
         // same (the slip tangents move) cost 2 -> 15 load steps at
         // k_eta h / E = 1e5 on Scene P and stopped 1e6 at lambda = 0.
-        let pre = pre.get_or_insert_with(|| BlockPreconditioner::new(s));
+        let pre = pre.get_or_insert_with(|| BlockPreconditioner::new(s, *coupled_max));
         pre.update(s, tangents);
     }
 

@@ -64,6 +64,11 @@ pub struct IterationSettings {
     /// No equilibrium when the residual ratio makes no new minimum (by 0.1 %)
     /// within this many iterations (fixed-point methods).
     pub stall_window: u32,
+    /// Largest interface, in pair unknowns over the harmonics, whose
+    /// coupled tangent the stiff-joint preconditioner factorizes densely
+    /// (an LU of that order per Newton step); a larger one is solved by
+    /// GMRES on the per-harmonic blocks (docs/stability.md).
+    pub coupled_max: usize,
 }
 
 impl Default for IterationSettings {
@@ -73,6 +78,7 @@ impl Default for IterationSettings {
             epsilon: 1e-6,
             max_iterations: 500,
             stall_window: 40,
+            coupled_max: super::precondition::COUPLED_MAX,
         }
     }
 }
