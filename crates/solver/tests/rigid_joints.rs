@@ -24,7 +24,9 @@ fn serial() -> MutexGuard<'static, ()> {
 }
 
 fn scene(name: &str) -> Scene {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../geo").join(name);
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../geo")
+        .join(name);
     Scene::from_path(&path).unwrap_or_else(|e| panic!("{e}"))
 }
 
@@ -96,7 +98,11 @@ fn rigid_and_thickness_springs_are_their_closed_forms_on_a_meshed_geo() {
     let t = 0.1;
     let rigid = with_joints(base.clone(), JointLaw::Linear, Some(StiffnessSpec::Rigid));
     let (mesh, _) = mesh_scene(&rigid, None).expect("gmsh meshes the pile in soil");
-    let materials: Vec<_> = mesh.bodies.iter().map(|b| rigid.materials[&b.name].elastic()).collect();
+    let materials: Vec<_> = mesh
+        .bodies
+        .iter()
+        .map(|b| rigid.materials[&b.name].elastic())
+        .collect();
     let layer = with_joints(base.clone(), JointLaw::Linear, Some(StiffnessSpec::Thickness(t)));
     let default = with_joints(base.clone(), JointLaw::Linear, None);
     for j in &mesh.joints {
@@ -143,7 +149,10 @@ fn rigid_and_thickness_springs_are_their_closed_forms_on_a_meshed_geo() {
         close(k.k_eta, 1000.0 * e / shortest(&mesh, &j.name), "recorded k_eta");
     }
     let text = serde_json::to_string(&r).unwrap();
-    assert!(text.contains(r#""joint_springs":{"pile_base":{"k_xi":"#), "{text}");
+    assert!(
+        text.contains(r#""joint_springs":{"pile_base":{"k_xi":"#),
+        "{text}"
+    );
     assert!(text.contains(r#""source":"rigid""#), "{text}");
 }
 
@@ -153,7 +162,11 @@ fn rigid_and_thickness_springs_are_their_closed_forms_on_a_meshed_geo() {
 #[test]
 fn a_linear_rigid_joint_gives_the_bonded_scene_p() {
     let _guard = serial();
-    let rigid = with_joints(scene("pile_footing.json"), JointLaw::Linear, Some(StiffnessSpec::Rigid));
+    let rigid = with_joints(
+        scene("pile_footing.json"),
+        JointLaw::Linear,
+        Some(StiffnessSpec::Rigid),
+    );
     let bonded = scene("pile_footing_bonded.json");
     assert_eq!(rigid.mesh, bonded.mesh);
     let (a, b) = (solve(&rigid), solve(&bonded));
@@ -276,12 +289,8 @@ fn rigid_joints_are_mesh_independent_and_springs_from_the_mesh_are_not() {
         );
         u
     };
-    let change = |a: [f64; 3], b: [f64; 3]| {
-        [
-            (b[0] - a[0]).abs() / a[0].abs(),
-            (b[2] - a[2]).abs() / a[2].abs(),
-        ]
-    };
+    let change =
+        |a: [f64; 3], b: [f64; 3]| [(b[0] - a[0]).abs() / a[0].abs(), (b[2] - a[2]).abs() / a[2].abs()];
     println!("rigid joints:");
     let rigid = with_joints(base.clone(), JointLaw::Linear, Some(StiffnessSpec::Rigid));
     let r = change(head(&rigid, 0.25), head(&rigid, 0.125));

@@ -9,8 +9,8 @@
 use axijoint_mesh::{prepare, JointKind, Mesh};
 use axijoint_solver::elements::{JointRule, JointSprings};
 use axijoint_solver::scene::{
-    Family, Fix, JointLaw, JointStiffness, Load, RuleKind, Scene, SceneError, ShearCheck,
-    StiffnessSpec, VtuSections,
+    Family, Fix, JointLaw, JointStiffness, Load, RuleKind, Scene, SceneError, ShearCheck, StiffnessSpec,
+    VtuSections,
 };
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
@@ -119,7 +119,9 @@ fn scene_p_table1_values() {
     let joint = &scene.joints["pile_side"];
     assert_eq!(
         joint.stiffness(),
-        Ok(JointStiffness::Given(JointSprings::new(1.0e4, 2.0e4, 1.0e4).unwrap()))
+        Ok(JointStiffness::Given(
+            JointSprings::new(1.0e4, 2.0e4, 1.0e4).unwrap()
+        ))
     );
     assert_eq!(joint.rule(JointKind::Lin6), JointRule::Gauss(3));
     assert_eq!(joint.rule(JointKind::Lin4), JointRule::Gauss(2));
@@ -502,7 +504,11 @@ const SCENE_P_SPRINGS: &str = r#""k_xi": 1.0e4,
 fn joint_stiffness_forms() {
     let forms = [
         ("", JointStiffness::Rigid, None),
-        (r#""stiffness": "rigid","#, JointStiffness::Rigid, Some(StiffnessSpec::Rigid)),
+        (
+            r#""stiffness": "rigid","#,
+            JointStiffness::Rigid,
+            Some(StiffnessSpec::Rigid),
+        ),
         (
             r#""stiffness": {"thickness": 0.05},"#,
             JointStiffness::Thickness(0.05),
@@ -561,7 +567,11 @@ fn joint_stiffness_forms() {
     }
     // The layer's object takes `thickness` only.
     let e = error_of(&edited(SCENE_P_SPRINGS, r#""stiffness": {"thicknes": 0.1},"#));
-    assert_error(&e, "joints.pile_side.stiffness.thicknes", &["unknown field `thicknes`"]);
+    assert_error(
+        &e,
+        "joints.pile_side.stiffness.thicknes",
+        &["unknown field `thicknes`"],
+    );
 }
 
 #[test]

@@ -34,8 +34,8 @@ pub use measures::{
     face_displacement, joint_relative_displacements, linear_joint_field, max_displacement, reactions,
 };
 pub use model::{
-    build_model, iteration_settings, joint_springs, mesh_scene, scene_sections, support_flags,
-    support_nodes, REFERENCE_STIFFNESS,
+    build_model, iteration_settings, joint_springs, mesh_scene, scene_sections, support_flags, support_nodes,
+    REFERENCE_STIFFNESS,
 };
 pub use plausible::{
     warnings, LARGE_DISPLACEMENT, MANY_HARMONICS, MODULUS_CONTRAST, SAME_AREAS, SAME_FACES, WEIGHT_STRAIN,

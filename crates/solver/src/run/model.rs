@@ -3,10 +3,10 @@
 //! settings and the joint sections.
 
 use crate::assembly::JointModel;
+use crate::elements::JointSprings;
 use crate::error::SolverError;
 use crate::linear::Model;
 use crate::loads::HarmonicLoads;
-use crate::elements::JointSprings;
 use crate::scene::{JointLaw, JointStiffness, Scene, SceneError};
 use axijoint_mesh::{gmsh, insert_joints, validate, Mesh, Validation};
 use std::path::Path;
@@ -106,7 +106,8 @@ pub fn joint_springs(
         _ => Err(SceneError::Invalid {
             path: scene.path.clone(),
             key: format!("joints.{}.stiffness", joint.name),
-            message: "the joint has no elements between bodies to measure: give k_xi, k_eta and k_theta".into(),
+            message: "the joint has no elements between bodies to measure: give k_xi, k_eta and k_theta"
+                .into(),
         }
         .into()),
     }

@@ -53,7 +53,11 @@ impl JointConfig {
     /// `stiffness` and a `k_*` are given, or only some of the `k_*`; `key`
     /// is relative to the joint.
     pub fn stiffness(&self) -> Result<JointStiffness, (&'static str, String)> {
-        let given = [("k_xi", self.k_xi), ("k_eta", self.k_eta), ("k_theta", self.k_theta)];
+        let given = [
+            ("k_xi", self.k_xi),
+            ("k_eta", self.k_eta),
+            ("k_theta", self.k_theta),
+        ];
         let named = |pick: fn(&Option<f64>) -> bool| {
             let v: Vec<&str> = given.iter().filter(|(_, k)| pick(k)).map(|(n, _)| *n).collect();
             v.join(", ")
@@ -118,9 +122,9 @@ impl JointConfig {
 /// `k h_min / E` of a `"rigid"` joint: its three springs are
 /// `RIGID_STIFFNESS E / h_min`, E the smallest Young's modulus of the bodies
 /// on its faces and `h_min` its shortest element. The displacement error of
-/// a finite penalty is about `E / (k L)` for a loaded body of size L, so
-/// 1000 keeps it below `h_min / (1000 L)`: 1e-5 to 1e-4 measured on the
-/// piles of `geo/` (docs/stability.md, "Which stiffness to choose").
+/// a finite penalty is about `E / (k L)` = `h_min / (1000 L)` for a loaded
+/// body of size L: about 1e-4 measured on the piles of `geo/`, against the
+/// same scenes bonded (docs/stability.md, "Which stiffness to choose").
 pub const RIGID_STIFFNESS: f64 = 1000.0;
 
 /// The `stiffness` of a joint as written: `"rigid"` or `{"thickness": t}`.
