@@ -229,6 +229,25 @@ impl Joint {
             .sum();
         total / self.elements.len().max(1) as f64
     }
+
+    /// Shortest length of its elements (their end nodes' chord, as
+    /// [`Joint::mean_length`]) at the node coordinates `nodes`; 0 without
+    /// elements.
+    pub fn min_length(&self, nodes: &[[f64; 2]]) -> f64 {
+        let shortest = self
+            .elements
+            .iter()
+            .map(|e| {
+                let (a, b) = (nodes[e.bottom[0]], nodes[e.bottom[1]]);
+                (b[0] - a[0]).hypot(b[1] - a[1])
+            })
+            .fold(f64::INFINITY, f64::min);
+        if shortest.is_finite() {
+            shortest
+        } else {
+            0.0
+        }
+    }
 }
 
 /// A meridional mesh: nodes in (r, z), bodies, boundary sets and joints.

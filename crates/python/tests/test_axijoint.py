@@ -233,3 +233,37 @@ def test_an_override_never_makes_a_named_object():
     assert e.value.exit_status == 1
     with pytest.raises(axijoint.InputError, match=r"no material 'rock' \(it has: pile, footing\)"):
         axijoint.run(SCENE, overrides={"materials.rock.E": 100.0})
+
+
+def test_an_override_chooses_the_joints_stiffness_form():
+    from axijoint._api import set_key
+
+    scene = json.loads((ROOT / SCENE).read_text())
+    joint = scene["joints"]["pile_side"]
+    assert (joint["k_xi"], joint["k_eta"], joint["k_theta"]) == (1.0e4, 2.0e4, 1.0e4)
+    set_key(scene, "joints.pile_side.stiffness", "rigid")
+    assert joint["stiffness"] == "rigid" and not any(k in joint for k in ("k_xi", "k_eta", "k_theta"))
+    set_key(scene, "joints.pile_side.stiffness", {"thickness": 0.05})
+    assert joint["stiffness"] == {"thickness": 0.05}
+    set_key(scene, "joints.pile_side.k_eta", 3.0e4)
+    assert "stiffness" not in joint and joint["k_eta"] == 3.0e4
+    with pytest.raises(axijoint.InputError, match="no joint 'pile_sied'; did you mean 'pile_side'"):
+        set_key(scene, "joints.pile_sied.stiffness", "rigid")
+
+
+def test_a_rigid_joint_by_override_runs_and_reports_its_springs(tmp_path):
+    r = axijoint.run(
+        SCENE,
+        tmp_path / "rigid",
+        overrides={"mesh.parameters.size": COARSE, "joints.pile_side.stiffness": "rigid"},
+        report=False,
+        without_joints=False,
+    )
+    springs = r.solution["extra"]["joint_springs"]["pile_side"]
+    assert springs["source"] == "rigid"
+    # 1000 E / h_min: E = 2e4 MPa (pile and footing), h_min at most the
+    # element size along the pile side, size / refine = 0.25 m.
+    assert springs["k_xi"] == springs["k_eta"] == springs["k_theta"], springs
+    assert 0 < 1000 * 2.0e4 / springs["k_eta"] <= 0.25 * (1 + 1e-9), springs
+    with pytest.raises(axijoint.InputError, match=r"joints\.pile_side\.stiffness: 'stiff' is not a stiffness"):
+        axijoint.run(SCENE, overrides={"joints.pile_side.stiffness": "stiff"})

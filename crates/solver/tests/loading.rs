@@ -291,8 +291,10 @@ fn stiff_scene_p(kh_over_e: f64) -> Scene {
     sc.solver = SolverSettings::default();
     let e = sc.materials["pile"].e;
     let j = sc.joints.get_mut("pile_side").expect("joint");
-    let f = kh_over_e * e / 0.125 / j.k_eta;
-    (j.k_xi, j.k_eta, j.k_theta) = (f * j.k_xi, f * j.k_eta, f * j.k_theta);
+    let f = kh_over_e * e / 0.125 / j.k_eta.expect("given springs");
+    for k in [&mut j.k_xi, &mut j.k_eta, &mut j.k_theta] {
+        *k = k.map(|v| f * v);
+    }
     sc
 }
 

@@ -262,7 +262,7 @@ fn torsional_partial_slip_matches_the_rigid_block_closed_form() {
     let (a, c, k) = (
         radius(&sc),
         contact_law(&sc).cohesion,
-        sc.joints["contact"].k_theta,
+        sc.joints["contact"].k_theta.expect("given springs"),
     );
     assert_eq!(contact_law(&sc).friction_deg, 0.0);
     let torque = |rs: f64| 2.0 * PI * c * (a.powi(3) / 3.0 - rs.powi(3) / 12.0);
@@ -414,7 +414,7 @@ fn torque_just_above_full_slip_is_no_equilibrium() {
 fn eccentric_uplift_converges_with_harmonics_to_the_winkler_reference() {
     let mut sc = scene("block_uplift.json");
     let a = radius(&sc);
-    let k = sc.joints["contact"].k_eta;
+    let k = sc.joints["contact"].k_eta.expect("given springs");
     let load = resultant(&mut sc).clone();
     let p = -load.force[2];
     let e = load.moment[1] / p;
@@ -624,7 +624,7 @@ fn auto_harmonics_reach_the_uplift_reference_and_stop_at_the_loads_for_linear_sc
     use axijoint_solver::scene::Harmonics;
     let mut sc = scene("block_uplift.json");
     let a = radius(&sc);
-    let k = sc.joints["contact"].k_eta;
+    let k = sc.joints["contact"].k_eta.expect("given springs");
     let load = resultant(&mut sc).clone();
     let p = -load.force[2];
     let (w0, tilt0, _) = winkler_uplift(a, k, p, load.moment[1] / p);

@@ -9,7 +9,8 @@
 use axijoint_mesh::{prepare, JointKind, Mesh};
 use axijoint_solver::elements::{JointRule, JointSprings};
 use axijoint_solver::scene::{
-    Family, Fix, JointLaw, Load, RuleKind, Scene, SceneError, ShearCheck, VtuSections,
+    Family, Fix, JointLaw, JointStiffness, Load, RuleKind, Scene, SceneError, ShearCheck, StiffnessSpec,
+    VtuSections,
 };
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
@@ -116,7 +117,12 @@ fn scene_p_table1_values() {
         assert_eq!((e.e, e.nu), (2.0e4, 0.17));
     }
     let joint = &scene.joints["pile_side"];
-    assert_eq!(joint.springs(), JointSprings::new(1.0e4, 2.0e4, 1.0e4).unwrap());
+    assert_eq!(
+        joint.stiffness(),
+        Ok(JointStiffness::Given(
+            JointSprings::new(1.0e4, 2.0e4, 1.0e4).unwrap()
+        ))
+    );
     assert_eq!(joint.rule(JointKind::Lin6), JointRule::Gauss(3));
     assert_eq!(joint.rule(JointKind::Lin4), JointRule::Gauss(2));
     match joint.law {
@@ -483,6 +489,89 @@ fn joint_values() {
     for (from, to, key, word) in cases {
         assert_error(&error_of(&edited(from, to)), key, &[word]);
     }
+}
+
+/// Scene P's three springs, as written.
+const SCENE_P_SPRINGS: &str = r#""k_xi": 1.0e4,
+      "k_eta": 2.0e4,
+      "k_theta": 1.0e4,"#;
+
+/// A joint's stiffness is one of three forms: the three springs, `"rigid"`
+/// (also by default) or a layer's thickness. Both forms, some of the
+/// springs, a thickness <= 0 or another string are refused at a key naming
+/// the joint, saying what to give.
+#[test]
+fn joint_stiffness_forms() {
+    let forms = [
+        ("", JointStiffness::Rigid, None),
+        (
+            r#""stiffness": "rigid","#,
+            JointStiffness::Rigid,
+            Some(StiffnessSpec::Rigid),
+        ),
+        (
+            r#""stiffness": {"thickness": 0.05},"#,
+            JointStiffness::Thickness(0.05),
+            Some(StiffnessSpec::Thickness(0.05)),
+        ),
+    ];
+    for (to, form, spec) in forms {
+        let scene = parse(&edited(SCENE_P_SPRINGS, to)).unwrap();
+        let joint = &scene.joints["pile_side"];
+        assert_eq!(joint.stiffness, spec);
+        assert_eq!(joint.stiffness(), Ok(form));
+        scene.check(mesh_p()).unwrap();
+        // Written back, the form reads back as it was.
+        let again: Scene = serde_json::from_str(&serde_json::to_string(&scene).unwrap()).unwrap();
+        assert_eq!(again.joints["pile_side"], *joint);
+    }
+    let cases: [(&str, &str, &[&str]); 7] = [
+        (
+            r#""k_xi": 1.0e4, "k_eta": 2.0e4, "k_theta": 1.0e4, "stiffness": "rigid","#,
+            "joints.pile_side.stiffness",
+            &["give either `stiffness` or the springs k_xi, k_eta and k_theta, not both (also given: k_xi, k_eta, k_theta)"],
+        ),
+        (
+            r#""k_eta": 2.0e4, "stiffness": {"thickness": 0.1},"#,
+            "joints.pile_side.stiffness",
+            &["not both (also given: k_eta)"],
+        ),
+        (
+            r#""k_xi": 1.0e4, "k_eta": 2.0e4,"#,
+            "joints.pile_side.k_theta",
+            &["k_xi, k_eta given but not k_theta: give all three springs k_xi, k_eta and k_theta, or none of them and `\"stiffness\": \"rigid\"` (the default) or `{\"thickness\": t}`"],
+        ),
+        (
+            r#""k_eta": 2.0e4,"#,
+            "joints.pile_side.k_xi",
+            &["k_eta given but not k_xi, k_theta: give all three springs"],
+        ),
+        (
+            r#""stiffness": {"thickness": 0},"#,
+            "joints.pile_side.stiffness.thickness",
+            &["0 is not allowed: the interface layer's thickness is a length > 0"],
+        ),
+        (
+            r#""stiffness": {"thickness": -0.1},"#,
+            "joints.pile_side.stiffness.thickness",
+            &["-0.1 is not allowed", "length > 0"],
+        ),
+        (
+            r#""stiffness": "stiff","#,
+            "joints.pile_side.stiffness",
+            &["'stiff' is not a stiffness: give \"rigid\", {\"thickness\": t} (t a length > 0), or leave out `stiffness` and give k_xi, k_eta and k_theta"],
+        ),
+    ];
+    for (to, key, words) in cases {
+        assert_error(&error_of(&edited(SCENE_P_SPRINGS, to)), key, words);
+    }
+    // The layer's object takes `thickness` only.
+    let e = error_of(&edited(SCENE_P_SPRINGS, r#""stiffness": {"thicknes": 0.1},"#));
+    assert_error(
+        &e,
+        "joints.pile_side.stiffness.thicknes",
+        &["unknown field `thicknes`"],
+    );
 }
 
 #[test]

@@ -428,7 +428,7 @@ fn uplift(e_over_a: f64, m: u32) -> Scene {
 /// covers the axis (x0 < 0), else at theta = 0.
 fn uplift_error(sc: &Scene, run: &Run) -> f64 {
     let a = radius(sc);
-    let k = sc.joints["contact"].k_eta;
+    let k = sc.joints["contact"].k_eta.expect("given springs");
     let mut sc = sc.clone();
     let load = resultant(&mut sc).clone();
     let p = -load.force[2];
@@ -509,7 +509,7 @@ fn case2_torsion_at_095_and_105_of_capacity() {
     let (a, c, k) = (
         radius(&sc),
         law(&sc, "contact").cohesion,
-        sc.joints["contact"].k_theta,
+        sc.joints["contact"].k_theta.expect("given springs"),
     );
     assert_eq!(law(&sc, "contact").friction_deg, 0.0);
     let t_max = 2.0 * PI * c * a.powi(3) / 3.0;
@@ -578,7 +578,7 @@ fn case2_sliding_rigid_block_at_095_and_105_of_capacity() {
     let (a, c, k) = (
         radius(&sc),
         law(&sc, "contact").cohesion,
-        sc.joints["contact"].k_xi,
+        sc.joints["contact"].k_xi.expect("given springs"),
     );
     let h_max = c * PI * a * a;
     for (factor, want) in [(0.95, Category::Converged), (1.05, Category::NoEquilibrium)] {
@@ -659,8 +659,10 @@ fn stiff_scene_p(name: &str, kh_over_e: f64) -> Scene {
     assert!((p["size"] / p["refine"] - SCENE_P_H).abs() < 1e-12);
     let e = sc.materials["pile"].e;
     let j = sc.joints.get_mut("pile_side").expect("joint");
-    let f = kh_over_e * e / SCENE_P_H / j.k_eta;
-    (j.k_xi, j.k_eta, j.k_theta) = (f * j.k_xi, f * j.k_eta, f * j.k_theta);
+    let f = kh_over_e * e / SCENE_P_H / j.k_eta.expect("given springs");
+    for k in [&mut j.k_xi, &mut j.k_eta, &mut j.k_theta] {
+        *k = k.map(|v| f * v);
+    }
     sc
 }
 

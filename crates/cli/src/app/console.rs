@@ -3,7 +3,7 @@
 
 use axijoint_solver::iteration::IterationRecord;
 use axijoint_solver::results::SolutionHeader;
-use axijoint_solver::scene::Scene;
+use axijoint_solver::scene::{Scene, SpringSource};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::path::Path;
 use std::time::Duration;
@@ -46,6 +46,21 @@ pub fn print_summary(path: &Path, scene: &Scene, header: &SolutionHeader, out: &
         t.factorize,
         t.solve
     );
+    for (name, k) in header.record.iter().flat_map(|r| &r.joint_springs) {
+        crate::say!(
+            "  joint {name}: k_xi {:.4e}, k_eta {:.4e}, k_theta {:.4e} {}/{} ({})",
+            k.k_xi,
+            k.k_eta,
+            k.k_theta,
+            scene.units.stress,
+            scene.units.length,
+            match k.source {
+                SpringSource::Rigid => "rigid",
+                SpringSource::Thickness => "from the layer's thickness",
+                SpringSource::Given => "given",
+            }
+        );
+    }
     if let Some(i) = &header.initial {
         let b = &i.balance;
         crate::say!(

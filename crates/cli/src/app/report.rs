@@ -6,8 +6,8 @@ use anyhow::Result;
 use axijoint_report::write_report;
 use axijoint_solver::iteration::LoadStep;
 use axijoint_solver::results::{
-    read_joint_field, read_solution, AdaptTable, AutoHarmonics, HarmonicCheck, InitialInfo, PerProfile,
-    StepMeasure, SOLVED_MESH,
+    read_joint_field, read_solution, AdaptTable, AutoHarmonics, HarmonicCheck, InitialInfo,
+    JointSpringsRecord, PerProfile, StepMeasure, SOLVED_MESH,
 };
 use axijoint_solver::scene::{Loading, Units};
 use serde::{Deserialize, Serialize};
@@ -44,6 +44,9 @@ pub struct Summary {
     pub initial: Option<InitialInfo>,
     /// Iterations of a nonlinear run.
     pub iterations: Option<usize>,
+    /// Each joint's springs as solved and their source (= `extra.joint_springs`).
+    #[serde(default)]
+    pub joint_springs: BTreeMap<String, JointSpringsRecord>,
     /// Each joint's areas by state.
     pub joints: BTreeMap<String, JointSummary>,
     /// The limit load factor of a stepped run that found no equilibrium.
@@ -181,6 +184,7 @@ pub fn write_outputs(dir: &Path, compare: &[PathBuf]) -> Result<Summary> {
         harmonics: h.harmonics.clone(),
         initial: h.initial.clone(),
         iterations: record.iterations,
+        joint_springs: record.joint_springs.clone(),
         joints: joint_summary,
         limit_load_factor: record.limit_load_factor,
         load_factor: record.load_factor,

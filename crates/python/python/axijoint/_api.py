@@ -61,12 +61,33 @@ def _named_object(key: str, steps: list, node: Any, i: int) -> None:
     raise InputError(f"override {key!r}: the scene has no {what} {step!r}{hint} (it has: {have})")
 
 
+# A joint's stiffness is one of two forms: `stiffness` ("rigid" or
+# {"thickness": t}) or the springs k_xi, k_eta, k_theta.
+_SPRINGS = ("k_xi", "k_eta", "k_theta")
+
+
+def _one_stiffness_form(steps: list, scene: dict) -> None:
+    """After setting `joints.NAME.stiffness`, drops the joint's springs;
+    after setting one of its springs, drops its `stiffness`: an override
+    chooses the form."""
+    if len(steps) != 3 or steps[0] != "joints":
+        return
+    joint = scene["joints"][steps[1]]
+    if steps[2] == "stiffness":
+        for k in _SPRINGS:
+            joint.pop(k, None)
+    elif steps[2] in _SPRINGS:
+        joint.pop("stiffness", None)
+
+
 def set_key(scene: dict, key: str, value: Any) -> None:
     """Sets `key` (a path such as `"joints.pile_side.law.cohesion"` or
     `"loads[0].force[0]"`) of the scene dict to `value`, in place. Missing
     objects on the way are made, except a named material or joint (a
     misspelt name is refused with the nearest one); a list index must
-    exist."""
+    exist. Setting `joints.NAME.stiffness` (`"rigid"` or `{"thickness":
+    t}`) removes the joint's `k_xi`, `k_eta`, `k_theta`, and setting one of
+    those removes its `stiffness` (give all three)."""
     steps = _parse_key(key)
     node: Any = scene
     done = ""
@@ -89,6 +110,7 @@ def set_key(scene: dict, key: str, value: Any) -> None:
                 node[step] = [] if isinstance(steps[i + 1], int) else {}
             node = node[step]
         done = where
+    _one_stiffness_form(steps, scene)
 
 
 def _overrides(overrides: Mapping[str, Any] | None, kwargs: Mapping[str, Any]) -> dict:

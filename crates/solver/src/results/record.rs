@@ -3,13 +3,14 @@
 //! place ([`crate::run::record`]) and read by the report, the command
 //! line, the Python package and the benchmarks.
 //!
-//! Every field is optional: a linear run has no record at all, a
+//! Every field is optional: a linear run without joints or warnings has
+//! no record at all, a
 //! nonlinear one the iteration's fields, a stepped one its load path, a
 //! run that stopped `converged: false` and its error. Fields appear in
 //! the JSON in the order of their names.
 
 use crate::iteration::{IterationRecord, LimitLoad, LoadStep};
-use crate::scene::Loading;
+use crate::scene::{Loading, SpringSource};
 use serde::{Deserialize, Deserializer, Serialize};
 use std::collections::BTreeMap;
 
@@ -41,6 +42,10 @@ pub struct RunRecord {
     /// Every iteration, in order.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub history: Option<Vec<IterationRecord>>,
+    /// Each joint's springs as solved (after `"rigid"` or a thickness was
+    /// resolved on the mesh), by joint name.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub joint_springs: BTreeMap<String, JointSpringsRecord>,
     /// Iterations of the run (of its last step's solve when stepped: the
     /// length of `history`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -97,6 +102,19 @@ impl RunRecord {
     pub fn limit(&self) -> Option<&LimitLoad> {
         self.load_path.as_ref().and_then(|p| p.limit.as_ref())
     }
+}
+
+/// A joint's springs as solved (stress / length) and where they came from.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct JointSpringsRecord {
+    /// Tangential stiffness.
+    pub k_xi: f64,
+    /// Normal stiffness.
+    pub k_eta: f64,
+    /// Circumferential stiffness.
+    pub k_theta: f64,
+    /// `"rigid"`, `"thickness"` or `"given"`.
+    pub source: SpringSource,
 }
 
 /// The converged steps of a stepped run, and where it stopped short of the

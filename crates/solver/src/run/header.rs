@@ -29,6 +29,7 @@ pub fn solution_header(scene: &Scene, run: &Run) -> SolutionHeader {
 pub fn last_iterate_header(scene: &Scene, run: &Run, error: &IterationError) -> SolutionHeader {
     let mut header = bare_header(scene, run);
     header.record = run.outcome.as_ref().map(|last| RunRecord {
+        joint_springs: joint_springs(scene, run),
         converged: Some(false),
         complete: Some(false),
         error: Some(error.to_string()),
@@ -45,9 +46,13 @@ pub fn last_iterate_header(scene: &Scene, run: &Run, error: &IterationError) -> 
     header
 }
 
-/// The record of a finished run; `None` for a linear run of a given M.
+/// The record of a finished run; `None` for a linear run of a given M
+/// without joints or warnings.
 pub fn record(scene: &Scene, run: &Run) -> Option<RunRecord> {
-    let mut r = RunRecord::default();
+    let mut r = RunRecord {
+        joint_springs: joint_springs(scene, run),
+        ..RunRecord::default()
+    };
     if let Some(outcome) = &run.outcome {
         r.iterations = Some(outcome.history.len());
         r.sections_deg = Some(sections_deg(outcome));
@@ -81,6 +86,31 @@ pub fn record(scene: &Scene, run: &Run) -> Option<RunRecord> {
     }
     r.warnings = super::plausible::warnings(scene, run);
     (r != RunRecord::default()).then_some(r)
+}
+
+/// Each joint's springs as solved and their source, by name.
+fn joint_springs(scene: &Scene, run: &Run) -> std::collections::BTreeMap<String, JointSpringsRecord> {
+    let model = &run.problem.model;
+    model
+        .mesh
+        .joints
+        .iter()
+        .zip(&model.joints)
+        .filter_map(|(j, m)| {
+            let config = scene.joints.get(&j.name)?;
+            let source = config.stiffness().ok()?.source();
+            let k = m.springs;
+            Some((
+                j.name.clone(),
+                JointSpringsRecord {
+                    k_xi: k.k_xi,
+                    k_eta: k.k_eta,
+                    k_theta: k.k_theta,
+                    source,
+                },
+            ))
+        })
+        .collect()
 }
 
 /// The joint sections of an outcome, in degrees.

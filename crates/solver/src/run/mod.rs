@@ -34,7 +34,7 @@ pub use measures::{
     face_displacement, joint_relative_displacements, linear_joint_field, max_displacement, reactions,
 };
 pub use model::{
-    build_model, iteration_settings, mesh_scene, scene_sections, support_flags, support_nodes,
+    build_model, iteration_settings, joint_springs, mesh_scene, scene_sections, support_flags, support_nodes,
     REFERENCE_STIFFNESS,
 };
 pub use plausible::{

@@ -3,10 +3,11 @@
 //! settings and the joint sections.
 
 use crate::assembly::JointModel;
+use crate::elements::JointSprings;
 use crate::error::SolverError;
 use crate::linear::Model;
 use crate::loads::HarmonicLoads;
-use crate::scene::{JointLaw, Scene};
+use crate::scene::{JointLaw, JointStiffness, Scene, SceneError};
 use axijoint_mesh::{gmsh, insert_joints, validate, Mesh, Validation};
 use std::path::Path;
 
@@ -78,7 +79,42 @@ fn reference_springs(
     }
 }
 
-/// Builds the linear model of a scene on its mesh.
+/// The springs of joint `joint` of `scene` on `mesh` (joints inserted;
+/// `materials` per body): as given, or resolved from the softer body on its
+/// faces (smallest E, with its nu) and its shortest element
+/// ([`JointStiffness::resolve`]).
+pub fn joint_springs(
+    scene: &Scene,
+    mesh: &Mesh,
+    joint: &axijoint_mesh::Joint,
+    materials: &[crate::material::Elastic],
+) -> Result<JointSprings, SolverError> {
+    let config = &scene.joints[&joint.name];
+    let stiffness = scene.joint_stiffness(&joint.name, config)?;
+    if let JointStiffness::Given(k) = stiffness {
+        return Ok(k);
+    }
+    let softer = joint
+        .bottom_bodies
+        .iter()
+        .chain(&joint.top_bodies)
+        .map(|&b| materials[b])
+        .min_by(|a, b| a.e.total_cmp(&b.e));
+    let h_min = joint.min_length(&mesh.nodes);
+    match softer {
+        Some(softer) if h_min > 0.0 => Ok(stiffness.resolve(softer, h_min)),
+        _ => Err(SceneError::Invalid {
+            path: scene.path.clone(),
+            key: format!("joints.{}.stiffness", joint.name),
+            message: "the joint has no elements between bodies to measure: give k_xi, k_eta and k_theta"
+                .into(),
+        }
+        .into()),
+    }
+}
+
+/// Builds the linear model of a scene on its mesh; each joint's springs
+/// are resolved here, once ([`joint_springs`]).
 pub fn build_model(scene: &Scene, mesh: Mesh) -> Result<Model, SolverError> {
     let materials: Vec<_> = mesh
         .bodies
@@ -94,7 +130,8 @@ pub fn build_model(scene: &Scene, mesh: Mesh) -> Result<Model, SolverError> {
                 .elements
                 .first()
                 .map_or(axijoint_mesh::JointKind::Lin6, |e| e.kind);
-            let mut joint = JointModel::new(config.springs(), config.rule(kind));
+            let springs = joint_springs(scene, &mesh, j, &materials)?;
+            let mut joint = JointModel::new(springs, config.rule(kind));
             if config.law != JointLaw::Linear {
                 let reference = reference_springs(&mesh, j, &materials, joint.springs);
                 joint.opening = reference.k_eta;
@@ -102,9 +139,9 @@ pub fn build_model(scene: &Scene, mesh: Mesh) -> Result<Model, SolverError> {
                     joint.assembled = reference;
                 }
             }
-            joint
+            Ok(joint)
         })
-        .collect();
+        .collect::<Result<Vec<_>, SolverError>>()?;
     let fixed = support_flags(scene, &mesh);
     Ok(Model::new(mesh, materials, joints, fixed)?)
 }

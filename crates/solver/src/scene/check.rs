@@ -53,7 +53,8 @@ impl Scene {
 
     /// Checks every value that needs no mesh: units, mesh file and gmsh
     /// parameters (reading the `.geo` to see that it uses each parameter),
-    /// materials (E > 0, -1 < nu < 0.5), joints (stiffnesses >= 0, C >= 0,
+    /// materials (E > 0, -1 < nu < 0.5), joints (one form of stiffness:
+    /// given springs >= 0, `"rigid"` or a thickness > 0; C >= 0,
     /// 0 <= phi < 90, rule), supports, loads (finite, harmonic within
     /// `harmonics`), sections, solver settings and cuts.
     pub fn check_values(&self) -> Result<(), SceneError> {
@@ -257,6 +258,18 @@ impl Scene {
         }
     }
 
+    /// The form of joint `name`'s stiffness, or an error at its key
+    /// ([`super::JointConfig::stiffness`]).
+    pub fn joint_stiffness(
+        &self,
+        name: &str,
+        joint: &super::JointConfig,
+    ) -> Result<super::JointStiffness, SceneError> {
+        joint
+            .stiffness()
+            .map_err(|(k, message)| self.invalid(format!("joints.{name}.{k}"), message))
+    }
+
     fn check_joint(&self, name: &str, joint: &super::JointConfig) -> Result<(), SceneError> {
         let key = |k: &str| format!("joints.{name}.{k}");
         if let Some(t) = &joint.initial_traction {
@@ -268,14 +281,28 @@ impl Scene {
                 ));
             }
         }
-        if let Err(crate::elements::JointError::Stiffness { name: k, value }) = joint.springs().validate() {
-            return Err(self.invalid(
-                key(k),
-                format!(
-                    "{} is not allowed: a stiffness is a finite number >= 0",
-                    Short(value)
-                ),
-            ));
+        match self.joint_stiffness(name, joint)? {
+            super::JointStiffness::Given(springs) => {
+                if let Err(crate::elements::JointError::Stiffness { name: k, value }) = springs.validate() {
+                    return Err(self.invalid(
+                        key(k),
+                        format!(
+                            "{} is not allowed: a stiffness is a finite number >= 0",
+                            Short(value)
+                        ),
+                    ));
+                }
+            }
+            super::JointStiffness::Thickness(t) if !(t.is_finite() && t > 0.0) => {
+                return Err(self.invalid(
+                    key("stiffness.thickness"),
+                    format!(
+                        "{} is not allowed: the interface layer's thickness is a length > 0",
+                        Short(t)
+                    ),
+                ));
+            }
+            _ => {}
         }
         if joint.bottom.is_some() != joint.top.is_some() {
             let missing = if joint.bottom.is_none() { "bottom" } else { "top" };

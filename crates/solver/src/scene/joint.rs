@@ -1,4 +1,5 @@
-//! Joints of a scene: springs, constitutive law and integration rule.
+//! Joints of a scene: springs (given, rigid or from a layer's thickness),
+//! constitutive law and integration rule.
 
 use crate::elements::{JointRule, JointSprings};
 use axijoint_mesh::{JointKind, JointSpec};
@@ -14,12 +15,21 @@ pub struct JointConfig {
     /// Physical surface on the top face.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub top: Option<String>,
-    /// Tangential stiffness (stress / length), >= 0.
-    pub k_xi: f64,
+    /// How the springs follow from the bodies and the mesh: `"rigid"` or
+    /// `{"thickness": t}` (not beside the `k_*`). With neither this nor
+    /// the `k_*` the joint is rigid.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stiffness: Option<StiffnessSpec>,
+    /// Tangential stiffness (stress / length), >= 0 (give all three `k_*`
+    /// or none).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub k_xi: Option<f64>,
     /// Normal stiffness (stress / length), >= 0.
-    pub k_eta: f64,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub k_eta: Option<f64>,
     /// Circumferential stiffness (stress / length), >= 0.
-    pub k_theta: f64,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub k_theta: Option<f64>,
     /// Constitutive law.
     pub law: JointLaw,
     /// Integration rule family.
@@ -37,12 +47,51 @@ pub struct JointConfig {
 }
 
 impl JointConfig {
-    /// The spring stiffnesses (unchecked: see [`JointSprings::validate`]).
-    pub fn springs(&self) -> JointSprings {
-        JointSprings {
-            k_xi: self.k_xi,
-            k_eta: self.k_eta,
-            k_theta: self.k_theta,
+    /// The form of its stiffness: the given `k_*` (unchecked: see
+    /// [`JointSprings::validate`]), `"rigid"` (also when nothing is given)
+    /// or a layer's thickness (unchecked). `Err((key, message))` when both
+    /// `stiffness` and a `k_*` are given, or only some of the `k_*`; `key`
+    /// is relative to the joint.
+    pub fn stiffness(&self) -> Result<JointStiffness, (&'static str, String)> {
+        let given = [
+            ("k_xi", self.k_xi),
+            ("k_eta", self.k_eta),
+            ("k_theta", self.k_theta),
+        ];
+        let named = |pick: fn(&Option<f64>) -> bool| {
+            let v: Vec<&str> = given.iter().filter(|(_, k)| pick(k)).map(|(n, _)| *n).collect();
+            v.join(", ")
+        };
+        let some = given.iter().filter(|(_, k)| k.is_some()).count();
+        match (self.stiffness, some) {
+            (Some(_), 1..) => Err((
+                "stiffness",
+                format!(
+                    "give either `stiffness` or the springs k_xi, k_eta and k_theta, not both (also given: {})",
+                    named(Option::is_some)
+                ),
+            )),
+            (Some(StiffnessSpec::Rigid), 0) | (None, 0) => Ok(JointStiffness::Rigid),
+            (Some(StiffnessSpec::Thickness(t)), 0) => Ok(JointStiffness::Thickness(t)),
+            (None, 3) => Ok(JointStiffness::Given(JointSprings {
+                k_xi: self.k_xi.unwrap_or_default(),
+                k_eta: self.k_eta.unwrap_or_default(),
+                k_theta: self.k_theta.unwrap_or_default(),
+            })),
+            (None, _) => {
+                let missing = given
+                    .iter()
+                    .find(|(_, k)| k.is_none())
+                    .map_or("k_xi", |(n, _)| *n);
+                Err((
+                    missing,
+                    format!(
+                        "{} given but not {}: give all three springs k_xi, k_eta and k_theta, or none of them and `\"stiffness\": \"rigid\"` (the default) or `{{\"thickness\": t}}`",
+                        named(Option::is_some),
+                        named(Option::is_none)
+                    ),
+                ))
+            }
         }
     }
 
@@ -66,6 +115,131 @@ impl JointConfig {
             curve: curve.to_string(),
             bottom: self.bottom.clone(),
             top: self.top.clone(),
+        }
+    }
+}
+
+/// `k h_min / E` of a `"rigid"` joint: its three springs are
+/// `RIGID_STIFFNESS E / h_min`, E the smallest Young's modulus of the bodies
+/// on its faces and `h_min` its shortest element. The displacement error of
+/// a finite penalty is about `E / (k L)` = `h_min / (1000 L)` for a loaded
+/// body of size L: about 1e-4 measured on the piles of `geo/`, against the
+/// same scenes bonded (docs/stability.md, "Which stiffness to choose").
+pub const RIGID_STIFFNESS: f64 = 1000.0;
+
+/// The `stiffness` of a joint as written: `"rigid"` or `{"thickness": t}`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum StiffnessSpec {
+    /// `"rigid"`: a penalty `RIGID_STIFFNESS E / h_min` ([`RIGID_STIFFNESS`]).
+    Rigid,
+    /// `{"thickness": t}`: an interface layer of thickness t (length) of the
+    /// softer adjacent body.
+    Thickness(f64),
+}
+
+/// `{"thickness": t}`, read with unknown keys refused.
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ThicknessSpec {
+    thickness: f64,
+}
+
+impl Serialize for StiffnessSpec {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match *self {
+            StiffnessSpec::Rigid => s.serialize_str("rigid"),
+            StiffnessSpec::Thickness(thickness) => ThicknessSpec { thickness }.serialize(s),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for StiffnessSpec {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        use serde::de::{self, MapAccess, Visitor};
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = StiffnessSpec;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str(r#""rigid" or {"thickness": t} (t a length > 0)"#)
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<StiffnessSpec, E> {
+                match v {
+                    "rigid" => Ok(StiffnessSpec::Rigid),
+                    _ => Err(E::custom(format!(
+                        r#"'{v}' is not a stiffness: give "rigid", {{"thickness": t}} (t a length > 0), or leave out `stiffness` and give k_xi, k_eta and k_theta"#
+                    ))),
+                }
+            }
+            fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<StiffnessSpec, A::Error> {
+                ThicknessSpec::deserialize(de::value::MapAccessDeserializer::new(map))
+                    .map(|t| StiffnessSpec::Thickness(t.thickness))
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+/// The form of a joint's stiffness, its `k_*` and `stiffness` read
+/// together ([`JointConfig::stiffness`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum JointStiffness {
+    /// The springs as given.
+    Given(JointSprings),
+    /// A penalty `RIGID_STIFFNESS E / h_min` ([`RIGID_STIFFNESS`]).
+    Rigid,
+    /// An interface layer of this thickness (length) of the softer body.
+    Thickness(f64),
+}
+
+/// Where a joint's springs came from (`joint_springs` in the run record).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SpringSource {
+    /// `"stiffness": "rigid"` (or nothing given).
+    Rigid,
+    /// `"stiffness": {"thickness": t}`.
+    Thickness,
+    /// `k_xi`, `k_eta`, `k_theta` as given.
+    Given,
+}
+
+impl JointStiffness {
+    /// Where the springs come from.
+    pub fn source(&self) -> SpringSource {
+        match self {
+            JointStiffness::Given(_) => SpringSource::Given,
+            JointStiffness::Rigid => SpringSource::Rigid,
+            JointStiffness::Thickness(_) => SpringSource::Thickness,
+        }
+    }
+
+    /// The springs of a joint whose softer adjacent body (smallest E) is
+    /// `softer` and whose shortest element is `h_min` long:
+    /// - rigid: `k_xi = k_eta = k_theta = RIGID_STIFFNESS E / h_min`;
+    /// - thickness t: `k_eta = E_oed / t`, `E_oed = E (1 - nu) / ((1 + nu)
+    ///   (1 - 2 nu))`, and `k_xi = k_theta = G / t`, `G = E / (2 (1 + nu))`;
+    /// - given: as given.
+    pub fn resolve(&self, softer: crate::material::Elastic, h_min: f64) -> JointSprings {
+        let (e, nu) = (softer.e, softer.nu);
+        match *self {
+            JointStiffness::Given(k) => k,
+            JointStiffness::Rigid => {
+                let k = RIGID_STIFFNESS * e / h_min;
+                JointSprings {
+                    k_xi: k,
+                    k_eta: k,
+                    k_theta: k,
+                }
+            }
+            JointStiffness::Thickness(t) => {
+                let e_oed = e * (1.0 - nu) / ((1.0 + nu) * (1.0 - 2.0 * nu));
+                let g = e / (2.0 * (1.0 + nu));
+                JointSprings {
+                    k_xi: g / t,
+                    k_eta: e_oed / t,
+                    k_theta: g / t,
+                }
+            }
         }
     }
 }

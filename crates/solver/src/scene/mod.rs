@@ -34,7 +34,10 @@ mod load;
 mod settings;
 
 pub use error::{did_you_mean, nearest, NameKind, SceneError};
-pub use joint::{JointConfig, JointLaw, MohrCoulomb, RuleKind, ShearCheck};
+pub use joint::{
+    JointConfig, JointLaw, JointStiffness, MohrCoulomb, RuleKind, ShearCheck, SpringSource, StiffnessSpec,
+    RIGID_STIFFNESS,
+};
 pub use load::{Family, Linear, Load, PointLoad, ResultantLoad, RingLoad, TractionLoad};
 pub use settings::{
     Adapt, Cut, Fix, InitialStress, Loading, Material, MeshSource, Outputs, Sections, SolverMethod,
