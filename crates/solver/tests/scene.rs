@@ -520,7 +520,20 @@ fn joint_stiffness_forms() {
         let joint = &scene.joints["pile_side"];
         assert_eq!(joint.stiffness, spec);
         assert_eq!(joint.stiffness(), Ok(form));
+        let mut scene = scene.clone();
+        if form == JointStiffness::Rigid {
+            // Scene P's method is the paper's: a rigid nonlinear joint needs newton.
+            match scene.check(mesh_p()) {
+                Err(SceneError::Invalid { key, message, .. }) => {
+                    assert_eq!(key, "joints.pile_side.stiffness");
+                    assert!(message.contains("needs `solver.method` \"newton\""), "{message}");
+                }
+                other => panic!("expected the method error, got {other:?}"),
+            }
+            scene.solver.method = axijoint_solver::scene::SolverMethod::Newton;
+        }
         scene.check(mesh_p()).unwrap();
+        let joint = &scene.joints["pile_side"];
         // Written back, the form reads back as it was.
         let again: Scene = serde_json::from_str(&serde_json::to_string(&scene).unwrap()).unwrap();
         assert_eq!(again.joints["pile_side"], *joint);

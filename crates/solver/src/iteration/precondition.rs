@@ -299,7 +299,11 @@ impl BlockPreconditioner {
             out.copy_from_slice(x);
             for (i, lu) in self.lu.iter().enumerate() {
                 if let Some(lu) = lu {
-                    lu.solve_in_place(faer::MatMut::from_column_major_slice_mut(&mut out[i * nr..(i + 1) * nr], nr, 1));
+                    lu.solve_in_place(faer::MatMut::from_column_major_slice_mut(
+                        &mut out[i * nr..(i + 1) * nr],
+                        nr,
+                        1,
+                    ));
                 }
             }
         };

@@ -302,6 +302,14 @@ impl Scene {
                     ),
                 ));
             }
+            super::JointStiffness::Rigid
+                if joint.law != JointLaw::Linear && self.solver.method != super::SolverMethod::Newton =>
+            {
+                return Err(self.invalid(
+                    key("stiffness"),
+                    "a rigid joint (the default when no stiffness is given) with a nonlinear law needs `solver.method` \"newton\" (the default): the paper's and Anderson's iterations keep the joint's stiffness in K_m and crawl on a stiff joint (docs/stability.md); give `k_xi`, `k_eta`, `k_theta` of about E / h or less, or a `thickness`, for those methods",
+                ));
+            }
             _ => {}
         }
         if joint.bottom.is_some() != joint.top.is_some() {
