@@ -18,6 +18,15 @@ pub(super) const NEWTON_HALVINGS: u32 = 5;
 /// converge them and the stepped runs.
 pub(super) const NEWTON_HALVINGS_STIFF: u32 = 10;
 
+/// Newton steps without a 1 % decrease of `|R|` before no equilibrium is
+/// reported, with a joint stiffer than its elements (the traction form).
+/// Measured beyond capacity (crates/solver/tests/stiff_limits.rs): with 8,
+/// the sliding block at k h / E = 1e4 (of its shortest element) stopped
+/// at 0.570 of the load for 0.952 (a change of the springs by 6e-7 gave
+/// 0.945), and the rigid torsion block at 0.898 for 0.909; with 16 both
+/// bracket the exact factor, the sliding one in 715 solves instead of 2333.
+pub(super) const NEWTON_STALL_STIFF: u32 = 16;
+
 /// What Newton iterates on: unknowns y, the section displacements
 /// `u_s = u_F + W G y` (G: the section forces of y, one sweep), the residual
 /// `R(y)` at given displacements (no sweep) and its generalized Jacobian
@@ -45,4 +54,6 @@ pub(super) trait Formulation {
     fn precondition(&mut self, r: &[f64], released: &mut JointAmplitudes, out: &mut [f64]) -> bool;
     /// Halvings of the line search.
     fn halvings(&self) -> u32;
+    /// Steps without a new minimum of `|R|` (by 1 %) before no equilibrium.
+    fn stall_window(&self) -> u32;
 }

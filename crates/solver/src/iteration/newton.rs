@@ -18,8 +18,9 @@ use std::collections::VecDeque;
 use std::time::Instant;
 
 /// Newton steps without a 1 % decrease of `|R|` before no equilibrium is
-/// reported (measured on the block torsion beyond capacity: 10 to 22 steps,
-/// 15 to 25 sweeps from 1.01 to 2 T_max).
+/// reported with joints as assembled (measured on the block torsion beyond
+/// capacity: 10 to 22 steps, 15 to 25 sweeps from 1.01 to 2 T_max); the
+/// traction form's is [`NEWTON_STALL_STIFF`](super::formulation::NEWTON_STALL_STIFF).
 const NEWTON_STALL: u32 = 8;
 
 /// The range of the Eisenstat-Walker forcing term (measured on Scene P:
@@ -86,6 +87,10 @@ impl Formulation for Nodal<'_, '_> {
 
     fn halvings(&self) -> u32 {
         NEWTON_HALVINGS
+    }
+
+    fn stall_window(&self) -> u32 {
+        NEWTON_STALL
     }
 }
 
@@ -288,7 +293,13 @@ pub(super) fn newton(
     progress: &mut dyn FnMut(&IterationRecord),
 ) -> Result<Converged, Box<Failure>> {
     if sweep.setup.softened() {
-        let mut form = Traction::new(*sweep, settings.coupled_max);
+        let mut form = Traction::new(
+            *sweep,
+            std::env::var("XCM")
+                .ok()
+                .and_then(|v| v.parse().ok())
+                .unwrap_or(settings.coupled_max),
+        );
         let y0 = form.start(&from);
         solve(sweep, &mut form, y0, settings, from, progress)
     } else {
@@ -433,14 +444,17 @@ fn evaluate(
 /// The watch for no equilibrium: the smallest `|R|` so far and where, and
 /// whether each of the last steps fell back to the plain step.
 struct Stall {
+    /// Steps without a new minimum before no equilibrium is reported.
+    window: u32,
     best: f64,
     best_at: u32,
     fallbacks: VecDeque<bool>,
 }
 
 impl Stall {
-    fn new(r_norm: f64) -> Self {
+    fn new(r_norm: f64, window: u32) -> Self {
         Stall {
+            window,
             best: r_norm,
             best_at: 1,
             fallbacks: VecDeque::new(),
@@ -450,7 +464,7 @@ impl Stall {
     /// Notes whether this step fell back to the plain step.
     fn fell_back(&mut self, yes: bool) {
         self.fallbacks.push_back(yes);
-        if self.fallbacks.len() > NEWTON_STALL as usize {
+        if self.fallbacks.len() > self.window as usize {
             self.fallbacks.pop_front();
         }
     }
@@ -462,9 +476,10 @@ impl Stall {
             self.best = r_norm;
             self.best_at = step;
             None
-        } else if step - self.best_at >= NEWTON_STALL {
+        } else if step - self.best_at >= self.window {
             Some(format!(
-                "the Newton residual stalls at ratio {ratio:.3e} (|R| made no new minimum by 1 % in {NEWTON_STALL} steps, {} of which fell back to the plain step: the joint tangent has (almost) no stiffness left along the unbalanced force, and the step the linearization asks for does not reduce the residual)",
+                "the Newton residual stalls at ratio {ratio:.3e} (|R| made no new minimum by 1 % in {} steps, {} of which fell back to the plain step: the joint tangent has (almost) no stiffness left along the unbalanced force, and the step the linearization asks for does not reduce the residual)",
+                self.window,
                 self.fallbacks.iter().filter(|&&f| f).count()
             ))
         } else {
@@ -519,7 +534,7 @@ fn solve(
     let mut total = first_solves;
     let mut r_norm = norm(&it.res);
     let (mut r_prev, mut eta) = (r_norm, 0.5f64);
-    let mut stall = Stall::new(r_norm);
+    let mut stall = Stall::new(r_norm, form.stall_window());
     let eta_floor = 0.5 * settings.epsilon * psi0;
     for step in 2..=settings.max_iterations {
         // (1) The Newton direction at y.

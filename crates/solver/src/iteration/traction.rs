@@ -39,7 +39,7 @@
 
 use super::attempt::Start;
 use super::eval::Eval;
-use super::formulation::{Formulation, NEWTON_HALVINGS_STIFF};
+use super::formulation::{Formulation, NEWTON_HALVINGS_STIFF, NEWTON_STALL_STIFF};
 use super::precondition::BlockPreconditioner;
 use super::release::{law_tangent, Tangent};
 use super::sweep::Sweep;
@@ -310,5 +310,9 @@ impl Formulation for Traction<'_, '_> {
 
     fn halvings(&self) -> u32 {
         NEWTON_HALVINGS_STIFF
+    }
+
+    fn stall_window(&self) -> u32 {
+        NEWTON_STALL_STIFF
     }
 }
