@@ -152,6 +152,42 @@ pub(super) fn joint_stiffness_ratio(setup: &Setup, j: usize) -> f64 {
     }
 }
 
+/// The verdict on a one-shot run's stop: a stall on a joint Newton
+/// assembles softer is reported as a stiff joint there. The whole load in
+/// one step can stall on a stiff joint where an equilibrium exists (Scene P
+/// at k h / E = 1e6, crates/solver/tests/stability.rs case 3); a stepped
+/// run tells a limit by halving its step down to 1 % (`steps`).
+pub(super) fn one_shot_verdict(setup: &Setup, e: IterationError) -> IterationError {
+    let IterationError::NoEquilibrium { joint, .. } = &e else {
+        return e;
+    };
+    let Some(j) = setup.model.mesh.joints.iter().position(|x| &x.name == joint) else {
+        return e;
+    };
+    let stiffness = joint_stiffness_ratio(setup, j);
+    if !(stiffness > STIFF_JOINT && softened(setup, j)) {
+        return e;
+    }
+    match e {
+        IterationError::NoEquilibrium {
+            joint,
+            reason,
+            iteration,
+            history,
+            last,
+            ..
+        } => IterationError::StiffJoint {
+            joint,
+            stiffness,
+            reason,
+            iteration,
+            history,
+            last,
+        },
+        other => other,
+    }
+}
+
 /// Whether joint `j` is assembled softer than its law (Newton's traction
 /// form carries its stiffness).
 fn softened(setup: &Setup, j: usize) -> bool {
@@ -180,9 +216,10 @@ pub(super) fn no_equilibrium(
     // A joint much stiffer than its bodies (k h / E >> 1) makes every
     // method that keeps it in K_m crawl (docs/stability.md, case 3), which
     // looks like no equilibrium: not reported as one. Newton assembles it
-    // softer and iterates on its tractions: there a stall is what it is
-    // for a soft joint (the blocks beyond capacity at k h / E = 10 to 1e4,
-    // crates/solver/tests/stiff_limits.rs).
+    // softer and iterates on its tractions: there a stall of a load step
+    // is what it is for a soft joint (the blocks beyond capacity at
+    // k h / E = 10 to 1e4, crates/solver/tests/stiff_limits.rs); a
+    // one-shot run's is judged by `one_shot_verdict`.
     let stiffness = joint_stiffness_ratio(setup, worst);
     if stiffness > STIFF_JOINT && !softened(setup, worst) {
         return IterationError::StiffJoint {

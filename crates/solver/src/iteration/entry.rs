@@ -3,7 +3,7 @@
 //! is chosen here.
 
 use super::attempt::Start;
-use super::diagnosis::unbalanced;
+use super::diagnosis::{one_shot_verdict, unbalanced};
 use super::method;
 use super::release::reference_release;
 use super::setup::Setup;
@@ -138,7 +138,7 @@ fn one_shot(
         Err(f) => {
             let history = f.error.history().to_vec();
             let last = sweep.finish(&f.x, f.ev, history);
-            Err(f.error.with_last(last))
+            Err(one_shot_verdict(setup, f.error).with_last(last))
         }
     }
 }
