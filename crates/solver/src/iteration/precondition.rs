@@ -39,9 +39,14 @@
 //! ```
 //!
 //! so the dense LU has order `n_r` per group: `(number of harmonics and
-//! families) x n_r <=` [`COUPLED_MAX`] coupled, else one per harmonic and
-//! family. Cost per Newton step: that LU (an eighth of the joint-node
-//! form's); no sparse factorization; per application no sweep.
+//! families) x n_r <=` [`COUPLED_MAX`] coupled (one LU per Newton step, an
+//! eighth of the joint-node form's; no sparse factorization; per
+//! application no sweep). Above it each harmonic and family gets its own
+//! LU of `I - Dbar_mf Z_r`, and every application solves the coupled
+//! `(I - D_r Z_r) w = D_r C Z r` by GMRES right-preconditioned by those
+//! blocks, `D_r` applied through the sections point by point (no dense
+//! coupled matrix, no sweep): the blocks alone left the slow modes where
+//! D varies around the turn and stopped the pile in soil at lambda = 0.
 
 use super::interface::Interface;
 use super::release::Tangent;
