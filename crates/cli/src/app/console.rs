@@ -46,7 +46,13 @@ pub fn print_summary(path: &Path, scene: &Scene, header: &SolutionHeader, out: &
         t.factorize,
         t.solve
     );
-    for (name, k) in header.record.iter().flat_map(|r| &r.joint_springs) {
+    // The springs the run computed (rigid, thickness); given ones are the scene's.
+    let computed = header
+        .record
+        .iter()
+        .flat_map(|r| &r.joint_springs)
+        .filter(|(_, k)| k.source != SpringSource::Given);
+    for (name, k) in computed {
         crate::say!(
             "  joint {name}: k_xi {:.4e}, k_eta {:.4e}, k_theta {:.4e} {}/{} ({})",
             k.k_xi,
