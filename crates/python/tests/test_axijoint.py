@@ -255,7 +255,14 @@ def test_a_rigid_joint_by_override_runs_and_reports_its_springs(tmp_path):
     r = axijoint.run(
         SCENE,
         tmp_path / "rigid",
-        overrides={"mesh.parameters.size": COARSE, "joints.pile_side.stiffness": "rigid"},
+        overrides={
+            "mesh.parameters.size": COARSE,
+            "joints.pile_side.stiffness": "rigid",
+            # Scene P runs the paper's method and sections, which a rigid
+            # nonlinear joint refuses.
+            "solver.method": "newton",
+            "sections": None,
+        },
         report=False,
         without_joints=False,
     )
@@ -265,5 +272,7 @@ def test_a_rigid_joint_by_override_runs_and_reports_its_springs(tmp_path):
     # element size along the pile side, size / refine = 0.25 m.
     assert springs["k_xi"] == springs["k_eta"] == springs["k_theta"], springs
     assert 0 < 1000 * 2.0e4 / springs["k_eta"] <= 0.25 * (1 + 1e-9), springs
+    with pytest.raises(axijoint.InputError, match=r"needs `solver.method` \"newton\""):
+        axijoint.run(SCENE, overrides={"joints.pile_side.stiffness": "rigid"})
     with pytest.raises(axijoint.InputError, match=r"joints\.pile_side\.stiffness: 'stiff' is not a stiffness"):
         axijoint.run(SCENE, overrides={"joints.pile_side.stiffness": "stiff"})
