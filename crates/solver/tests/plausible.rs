@@ -9,6 +9,7 @@
 //! | both moduli in MPa typed as 1e-6 of their value | the displacement is far beyond 5 % of the model's size |
 //! | the footing's modulus 1e7 times smaller | moduli 1e7 apart |
 //! | a unit weight 1e4 (MN/m^3) | gamma L / E above 1 |
+//! | Scene P (newton) with its joint's springs 1e6 times table1's | k h / E far above 10 x the rigid penalty; as shipped, and rigid, no warning |
 
 use axijoint_solver::run::{solve_scene, warnings};
 use axijoint_solver::scene::Scene;
@@ -79,4 +80,32 @@ fn a_nonlinear_run_with_far_more_harmonics_than_it_needs_is_told() {
         w[0].contains("harmonics: 0..=16 change the loaded faces by"),
         "{w:?}"
     );
+}
+
+/// Scene P's Mohr-Coulomb joint with given springs far stiffer than rigid
+/// (1e6 times table1's: k_xi h / E about 6e4 at its shortest element) is
+/// told that `"rigid"` gives the same answer; with table1's springs and
+/// with `"rigid"` it is not.
+#[test]
+fn a_joint_far_stiffer_than_rigid_is_told() {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../geo/pile_footing.json");
+    let mut sc = Scene::from_path(&path).unwrap();
+    sc.mesh.parameters.insert("size".into(), 0.5);
+    sc.solver = Default::default();
+    sc.sections = None;
+    assert_eq!(warned(&sc), Vec::<String>::new(), "table1's springs");
+    let j = sc.joints.get_mut("pile_side").unwrap();
+    for k in [&mut j.k_xi, &mut j.k_eta, &mut j.k_theta] {
+        *k = k.map(|v| 1e6 * v);
+    }
+    let w = warned(&sc);
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert!(
+        w[0].starts_with("joints.pile_side: k_eta h / E = ")
+            && w[0].contains("\"stiffness\": \"rigid\" gives the same answer"),
+        "{w:?}"
+    );
+    let j = sc.joints.get_mut("pile_side").unwrap();
+    (j.k_xi, j.k_eta, j.k_theta) = (None, None, None);
+    assert_eq!(warned(&sc), Vec::<String>::new(), "rigid");
 }

@@ -5,7 +5,7 @@
 
 use super::measures::max_displacement;
 use super::Run;
-use crate::scene::{Harmonics, Scene};
+use crate::scene::{Harmonics, JointLaw, JointStiffness, Scene, RIGID_STIFFNESS};
 use crate::short::Short;
 use axijoint_mesh::Mesh;
 
@@ -15,6 +15,12 @@ pub const LARGE_DISPLACEMENT: f64 = 0.05;
 pub const MODULUS_CONTRAST: f64 = 1e6;
 /// A self-weight strain `gamma L / E` (L the model's size) above this.
 pub const WEIGHT_STRAIN: f64 = 1.0;
+/// A given nonlinear joint spring with `k h / E` above this (h the joint's
+/// shortest element, E the softer body's modulus; ten times the
+/// rigid penalty, [`RIGID_STIFFNESS`]): no more accurate than rigid, and
+/// slower (docs/performance.md: the pile in soil 7x at 1e4, past 300 s
+/// at 1e5).
+pub const STIFF_JOINT: f64 = 10.0 * RIGID_STIFFNESS;
 /// With M at least this, an M/2 check that changes the loaded faces by
 /// less than [`SAME_FACES`] and the joint areas by less than
 /// [`SAME_AREAS`] says M/2 would do.
@@ -40,6 +46,7 @@ pub fn warnings(scene: &Scene, run: &Run) -> Vec<String> {
         ));
     }
     out.extend(material_warnings(scene, size));
+    out.extend(joint_warnings(scene, run));
     out.extend(harmonics_warning(scene, run));
     out
 }
@@ -83,6 +90,47 @@ fn material_warnings(scene: &Scene, size: f64) -> Vec<String> {
             out.push(format!(
                 "materials.{name}: its unit weight over the model's size strains it by gamma L / E = {}: a slip of units (a length in mm, a unit weight in kN/m^3 with stresses in MPa?)",
                 Short(strain)
+            ));
+        }
+    }
+    out
+}
+
+/// Given nonlinear joint springs much stiffer than rigid. (Soft springs
+/// are not warned about: the paper's Scene P has k h / E = 0.06 and the
+/// rigid-block scenes 1.5e-6, both on purpose.)
+fn joint_warnings(scene: &Scene, run: &Run) -> Vec<String> {
+    let model = &run.problem.model;
+    let mut out = Vec::new();
+    for (joint, props) in model.mesh.joints.iter().zip(&model.joints) {
+        let Some(config) = scene.joints.get(&joint.name) else {
+            continue;
+        };
+        if config.law == JointLaw::Linear || !matches!(config.stiffness(), Ok(JointStiffness::Given(_))) {
+            continue;
+        }
+        let h = joint.min_length(&model.mesh.nodes);
+        let e = joint
+            .bottom_bodies
+            .iter()
+            .chain(&joint.top_bodies)
+            .map(|&b| model.materials[b].e)
+            .fold(f64::INFINITY, f64::min);
+        if !(h > 0.0 && e.is_finite() && e > 0.0) {
+            continue;
+        }
+        let k = props.springs;
+        let ratios =
+            [("k_xi", k.k_xi), ("k_eta", k.k_eta), ("k_theta", k.k_theta)].map(|(n, k)| (n, k * h / e));
+        let name = &joint.name;
+        if let Some((key, r)) = ratios
+            .iter()
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+            .filter(|(_, r)| *r > STIFF_JOINT)
+        {
+            out.push(format!(
+                "joints.{name}: {key} h / E = {r:.2e} is {} times the rigid penalty ({RIGID_STIFFNESS} E / h, h its shortest element, E the softer body's): it changes the answer by less than E / (k L) and costs the iteration time (docs/performance.md, the stiffness sweep); \"stiffness\": \"rigid\" gives the same answer",
+                Short((*r / RIGID_STIFFNESS).round())
             ));
         }
     }
