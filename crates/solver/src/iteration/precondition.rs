@@ -39,7 +39,7 @@
 //! ```
 //!
 //! so the dense LU has order `n_r` per group: `(number of harmonics and
-//! families) x n_r <=` [`COUPLED_MAX`] coupled (one LU per Newton step, an
+//! families) x n_r <=` [`COUPLED_MAX`](super::types::COUPLED_MAX) coupled (one LU per Newton step, an
 //! eighth of the joint-node form's; no sparse factorization; per
 //! application no sweep). Above it each harmonic and family gets its own
 //! LU of `I - Dbar_mf Z_r`, and every application solves the coupled
@@ -59,14 +59,6 @@ use faer::Mat;
 use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
 use std::sync::Arc;
-
-/// Largest order of the coupled interface tangent factorized densely, in
-/// the relative displacements of the joint's node pairs (half the
-/// joint-node unknowns): an LU of order 6000 takes about 2 s on 2 cores.
-/// Measured on the pile in soil with k_eta h / E = 100 (order 2550):
-/// converges in 1 load step; block-diagonal, it stopped at lambda = 0 (100
-/// sweeps per Newton step did not reach the forcing term).
-pub(crate) const COUPLED_MAX: usize = 6000;
 
 /// The GMRES on the coupled interface tangent above
 /// [`IterationSettings::coupled_max`](super::types::IterationSettings::coupled_max):

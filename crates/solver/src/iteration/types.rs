@@ -71,6 +71,14 @@ pub struct IterationSettings {
     pub coupled_max: usize,
 }
 
+/// Largest order of the coupled interface tangent factorized densely, in
+/// the relative displacements of the joint's node pairs (half the
+/// joint-node unknowns): an LU of order 6000 takes about 2 s on 2 cores.
+/// Measured on the pile in soil with k_eta h / E = 100 (order 2550):
+/// converges in 1 load step; block-diagonal, it stopped at lambda = 0 (100
+/// sweeps per Newton step did not reach the forcing term).
+pub(crate) const COUPLED_MAX: usize = 6000;
+
 impl Default for IterationSettings {
     fn default() -> Self {
         IterationSettings {
@@ -78,7 +86,7 @@ impl Default for IterationSettings {
             epsilon: 1e-6,
             max_iterations: 500,
             stall_window: 40,
-            coupled_max: super::precondition::COUPLED_MAX,
+            coupled_max: COUPLED_MAX,
         }
     }
 }
