@@ -32,6 +32,17 @@ pub struct Elastic {
     pub nu: f64,
 }
 
+/// The softer (smaller E) material of the bodies on a joint's two faces;
+/// `None` for a joint without bodies.
+pub fn softer_side(joint: &axijoint_mesh::Joint, materials: &[Elastic]) -> Option<Elastic> {
+    joint
+        .bottom_bodies
+        .iter()
+        .chain(&joint.top_bodies)
+        .map(|&b| materials[b])
+        .min_by(|a, b| a.e.total_cmp(&b.e))
+}
+
 impl Elastic {
     /// A validated material.
     ///

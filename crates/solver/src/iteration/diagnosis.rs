@@ -139,12 +139,7 @@ pub(super) fn joint_stiffness_ratio(setup: &Setup, j: usize) -> f64 {
         })
         .sum::<f64>()
         / n;
-    let e = joint
-        .bottom_bodies
-        .iter()
-        .chain(&joint.top_bodies)
-        .map(|&b| model.materials[b].e)
-        .fold(f64::INFINITY, f64::min);
+    let e = crate::material::softer_side(joint, &model.materials).map_or(f64::INFINITY, |m| m.e);
     if e.is_finite() && e > 0.0 {
         k * h / e
     } else {

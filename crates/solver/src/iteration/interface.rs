@@ -21,6 +21,11 @@ pub(super) struct Interface {
     pub(super) b: Vec<DMatrix<f64>>,
     pub(super) g: Vec<DMatrix<f64>>,
     /// Groups of (harmonic index, family) solved together: one group of
-    /// every pair (coupled), or one group per pair (block-diagonal).
+    /// every pair (coupled), or one group per pair (solved by GMRES).
     pub(super) groups: Vec<Vec<(usize, usize)>>,
+    /// Every (harmonic index, family), in group order.
+    pub(super) members: Vec<(usize, usize)>,
+    /// With the groups split: `(a, a, b)` of each member at each section
+    /// (section-major), for `D_r` applied through the sections; else empty.
+    pub(super) phi: Vec<[f64; 3]>,
 }

@@ -69,6 +69,9 @@ const INNER_TOLERANCE: f64 = 1e-6;
 const INNER_MAX: usize = 1000;
 const INNER_RESTART: usize = 50;
 
+/// The families, in the order of the joint amplitudes.
+const FAMILIES: [Family; 2] = [Family::Symmetric, Family::Antisymmetric];
+
 /// The preconditioner: its fixed data and, per group, `D_r` and the LU of
 /// `I - D_r Z_r` at the current tangents.
 pub(super) struct BlockPreconditioner {
@@ -178,10 +181,23 @@ impl Interface {
         let members: Vec<(usize, usize)> = (0..setup.transfer.n_h)
             .flat_map(|h| (0..if both[h] { 2 } else { 1 }).map(move |f| (h, f)))
             .collect();
-        let groups = if members.len() * nr <= coupled_max {
-            vec![members]
+        let split = members.len() * nr > coupled_max;
+        let groups = if split {
+            members.iter().map(|&p| vec![p]).collect()
         } else {
-            members.into_iter().map(|p| vec![p]).collect()
+            vec![members.clone()]
+        };
+        let phi = if split {
+            (0..setup.sections().len())
+                .flat_map(|s| {
+                    members.iter().map(move |&(h, f)| {
+                        let (a, b) = setup.transfer.phi(s, h, FAMILIES[f]);
+                        [a, a, b]
+                    })
+                })
+                .collect()
+        } else {
+            Vec::new()
         };
         Interface {
             z,
@@ -192,6 +208,8 @@ impl Interface {
             b,
             g,
             groups,
+            members,
+            phi,
         }
     }
 }
@@ -213,22 +231,14 @@ impl BlockPreconditioner {
     /// `out = D_r v` over every (harmonic, family) member, coupled (through
     /// the sections, no dense matrix): `v`, `out` are member-major, `n_r`
     /// per member.
-    fn apply_dr(&self, setup: &Setup, members: &[(usize, usize)], v: &[f64], out: &mut [f64]) {
-        const FAMILIES: [Family; 2] = [Family::Symmetric, Family::Antisymmetric];
+    fn apply_dr(&self, setup: &Setup, v: &[f64], out: &mut [f64]) {
         let fixed = &*self.fixed;
         let nr = 3 * fixed.pairs.len();
         let n_p = setup.points.len();
         let sections = setup.sections();
-        let nm = members.len();
+        let nm = fixed.members.len();
+        let phi = &fixed.phi;
         out.fill(0.0);
-        let phi: Vec<[f64; 3]> = (0..sections.len())
-            .flat_map(|s| {
-                members.iter().map(move |&(h, f)| {
-                    let (a, b) = setup.transfer.phi(s, h, FAMILIES[f]);
-                    [a, a, b]
-                })
-            })
-            .collect();
         let mut jb = vec![[0.0; 3]; nm];
         let mut acc = vec![[0.0; 3]; nm];
         for (p, info) in setup.points.iter().enumerate() {
@@ -288,7 +298,7 @@ impl BlockPreconditioner {
 
     /// Solves `(I - D_r Z_r) w = rhs` over every member by right-
     /// preconditioned restarted GMRES, the preconditioner the block LUs.
-    fn solve_coupled(&self, setup: &Setup, members: &[(usize, usize)], rhs: &[f64]) -> Vec<f64> {
+    fn solve_coupled(&self, setup: &Setup, rhs: &[f64]) -> Vec<f64> {
         let fixed = &*self.fixed;
         let nr = 3 * fixed.pairs.len();
         let n = rhs.len();
@@ -307,12 +317,12 @@ impl BlockPreconditioner {
         let mut zr_v = vec![0.0; n];
         let mut dz = vec![0.0; n];
         let mut apply_a = |x: &[f64], out: &mut [f64]| {
-            for (i, &(h, _)) in members.iter().enumerate() {
+            for (i, &(h, _)) in fixed.members.iter().enumerate() {
                 let xv = nalgebra::DVectorView::from_slice(&x[i * nr..(i + 1) * nr], nr);
-                let y = &fixed.zr[h] * xv;
-                zr_v[i * nr..(i + 1) * nr].copy_from_slice(y.as_slice());
+                let mut y = nalgebra::DVectorViewMut::from_slice(&mut zr_v[i * nr..(i + 1) * nr], nr);
+                y.gemv(1.0, &fixed.zr[h], &xv, 0.0);
             }
-            self.apply_dr(setup, members, &zr_v, &mut dz);
+            self.apply_dr(setup, &zr_v, &mut dz);
             for ((o, a), b) in out.iter_mut().zip(x).zip(&dz) {
                 *o = a - b;
             }
@@ -403,7 +413,6 @@ impl BlockPreconditioner {
     pub(super) fn update(&mut self, setup: &Setup, tangents: &[Tangent]) {
         let n_p = setup.points.len();
         let sections = setup.sections();
-        const FAMILIES: [Family; 2] = [Family::Symmetric, Family::Antisymmetric];
         let fixed = &*self.fixed;
         let nr = 3 * fixed.pairs.len();
         let (dr, lu): (Vec<_>, Vec<_>) = fixed
@@ -512,7 +521,7 @@ impl BlockPreconditioner {
             }
         }
         if fixed.groups.len() > 1 {
-            let members: Vec<(usize, usize)> = fixed.groups.iter().map(|g| g[0]).collect();
+            let members = &fixed.members;
             let mut y = Vec::with_capacity(members.len());
             let mut yr = vec![0.0; members.len() * nr];
             for (i, &(h, f)) in members.iter().enumerate() {
@@ -521,8 +530,8 @@ impl BlockPreconditioner {
                 yr[i * nr..(i + 1) * nr].copy_from_slice(fixed.zc[h].tr_mul(&rv).as_slice());
             }
             let mut rhs = vec![0.0; yr.len()];
-            self.apply_dr(setup, &members, &yr, &mut rhs);
-            let w = self.solve_coupled(setup, &members, &rhs);
+            self.apply_dr(setup, &yr, &mut rhs);
+            let w = self.solve_coupled(setup, &rhs);
             if w.iter().all(|v| v.is_finite()) {
                 for (i, &(h, _)) in members.iter().enumerate() {
                     y[i] += &fixed.zc[h] * DVector::from_column_slice(&w[i * nr..(i + 1) * nr]);

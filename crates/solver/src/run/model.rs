@@ -62,12 +62,7 @@ fn reference_springs(
     k: crate::elements::JointSprings,
 ) -> crate::elements::JointSprings {
     let h = joint.mean_length(&mesh.nodes);
-    let e = joint
-        .bottom_bodies
-        .iter()
-        .chain(&joint.top_bodies)
-        .map(|&b| materials[b].e)
-        .fold(f64::INFINITY, f64::min);
+    let e = crate::material::softer_side(joint, materials).map_or(f64::INFINITY, |m| m.e);
     if !(e.is_finite() && h > 0.0) {
         return k;
     }
@@ -94,12 +89,7 @@ pub fn joint_springs(
     if let JointStiffness::Given(k) = stiffness {
         return Ok(k);
     }
-    let softer = joint
-        .bottom_bodies
-        .iter()
-        .chain(&joint.top_bodies)
-        .map(|&b| materials[b])
-        .min_by(|a, b| a.e.total_cmp(&b.e));
+    let softer = crate::material::softer_side(joint, materials);
     let h_min = joint.min_length(&mesh.nodes);
     match softer {
         Some(softer) if h_min > 0.0 => Ok(stiffness.resolve(softer, h_min)),

@@ -110,12 +110,7 @@ fn joint_warnings(scene: &Scene, run: &Run) -> Vec<String> {
             continue;
         }
         let h = joint.min_length(&model.mesh.nodes);
-        let e = joint
-            .bottom_bodies
-            .iter()
-            .chain(&joint.top_bodies)
-            .map(|&b| model.materials[b].e)
-            .fold(f64::INFINITY, f64::min);
+        let e = crate::material::softer_side(joint, &model.materials).map_or(f64::INFINITY, |m| m.e);
         if !(h > 0.0 && e.is_finite() && e > 0.0) {
             continue;
         }
