@@ -5,6 +5,7 @@ use crate::cuts::CutRow;
 use crate::error::ReportError;
 use crate::field::STRESS_NAMES;
 use axijoint_solver::iteration::IterationRecord;
+use axijoint_solver::members::MemberForces;
 use axijoint_solver::results::JointFieldFile;
 use axijoint_solver::results::LoadPath;
 use std::path::Path;
@@ -184,5 +185,119 @@ pub fn write_load_path(path: &Path, load_path: &LoadPath, length: &str) -> Resul
             row
         })
         .collect::<Vec<_>>();
+    write_atomic(path, &header, &rows, &numbers)
+}
+
+/// A member's stations, top to bottom: section forces (of the part above
+/// on the part below; N tension positive; moments about the station's
+/// axis point), the mean displacement and the rotation of the cross-section
+/// (empty when the plane has no node off the axis).
+pub fn write_member(
+    path: &Path,
+    member: &MemberForces,
+    length: &str,
+    force: &str,
+) -> Result<(), ReportError> {
+    let header: Vec<String> = [
+        format!("z [{length}]"),
+        format!("N [{force}]"),
+        format!("V_x [{force}]"),
+        format!("V_y [{force}]"),
+        format!("M_x [{force} {length}]"),
+        format!("M_y [{force} {length}]"),
+        format!("T [{force} {length}]"),
+        format!("u_x [{length}]"),
+        format!("u_y [{length}]"),
+        format!("u_z [{length}]"),
+        "phi_x [rad]".to_string(),
+        "phi_y [rad]".to_string(),
+        "phi_z [rad]".to_string(),
+    ]
+    .into();
+    let mut numbers = Vec::new();
+    let rows: Vec<Vec<String>> = member
+        .stations
+        .iter()
+        .map(|s| {
+            let v = [
+                s.z,
+                s.force[2],
+                s.force[0],
+                s.force[1],
+                s.moment[0],
+                s.moment[1],
+                s.moment[2],
+                s.displacement[0],
+                s.displacement[1],
+                s.displacement[2],
+            ];
+            numbers.extend(v);
+            let mut row: Vec<String> = v.into_iter().map(num).collect();
+            match s.rotation {
+                Some(phi) => {
+                    numbers.extend(phi);
+                    row.extend(phi.map(num));
+                }
+                None => row.extend(["", "", ""].map(String::from)),
+            }
+            row
+        })
+        .collect();
+    write_atomic(path, &header, &rows, &numbers)
+}
+
+/// The surroundings' reaction on a member: one row per segment between
+/// stations (`part` = shaft: per unit length and the segment's totals,
+/// moments about its mid-point on the axis), then the base plane (`part` =
+/// base: totals only, moments about its point on the axis).
+pub fn write_reaction(
+    path: &Path,
+    member: &MemberForces,
+    length: &str,
+    force: &str,
+) -> Result<(), ReportError> {
+    let header: Vec<String> = [
+        "part".to_string(),
+        format!("z_top [{length}]"),
+        format!("z_bottom [{length}]"),
+        format!("p_x [{force}/{length}]"),
+        format!("p_y [{force}/{length}]"),
+        format!("t [{force}/{length}]"),
+        format!("m_x [{force}]"),
+        format!("m_y [{force}]"),
+        format!("t_theta [{force}]"),
+        format!("F_x [{force}]"),
+        format!("F_y [{force}]"),
+        format!("F_z [{force}]"),
+        format!("M_x [{force} {length}]"),
+        format!("M_y [{force} {length}]"),
+        format!("M_z [{force} {length}]"),
+    ]
+    .into();
+    let mut numbers = Vec::new();
+    let mut rows: Vec<Vec<String>> = member
+        .segments
+        .iter()
+        .map(|s| {
+            let l = s.z_top - s.z_bottom;
+            let mut v = vec![s.z_top, s.z_bottom];
+            v.extend(s.force.map(|f| f / l));
+            v.extend(s.moment.map(|m| m / l));
+            v.extend(s.force);
+            v.extend(s.moment);
+            numbers.extend(&v);
+            std::iter::once("shaft".to_string())
+                .chain(v.into_iter().map(num))
+                .collect()
+        })
+        .collect();
+    let b = &member.base;
+    let totals: Vec<f64> = b.force.into_iter().chain(b.moment).collect();
+    numbers.push(b.z);
+    numbers.extend(&totals);
+    let mut row = vec!["base".to_string(), num(b.z), num(b.z)];
+    row.extend(std::iter::repeat_n(String::new(), 6));
+    row.extend(totals.into_iter().map(num));
+    rows.push(row);
     write_atomic(path, &header, &rows, &numbers)
 }

@@ -49,6 +49,7 @@ pub mod joint_law;
 pub mod linear;
 pub mod loads;
 pub mod material;
+pub mod members;
 pub mod results;
 pub mod run;
 pub mod scene;

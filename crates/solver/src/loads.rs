@@ -435,18 +435,12 @@ fn add_body_forces(
         }
         coords.clear();
         coords.extend(cell.nodes.iter().map(|&k| mesh.nodes[k]));
-        let nn = cell.nodes.len();
-        for (m, b) in [
-            (0usize, [0.0, -gamma, 0.0]),
-            (1, [k_h * gamma, 0.0, -k_h * gamma]),
-        ] {
-            if (m == 1 && k_h == 0.0) || (m == 0 && !gravity) {
+        let fe = &mut fe[..3 * cell.nodes.len()];
+        for m in 0..2 {
+            if !cell_body_load(&mut values, cell.kind, &coords, m, gamma, k_h, gravity, fe) {
                 continue;
             }
-            let fe = &mut fe[..3 * nn];
-            fe.fill(0.0);
-            body_force_load(&mut values, cell.kind, &coords, m as u32, b, fe);
-            let target = &mut out[m].symmetric;
+            let target = &mut out[m as usize].symmetric;
             for (i, &k) in cell.nodes.iter().enumerate() {
                 for c in 0..3 {
                     target[3 * k + c] += fe[3 * i + c];
@@ -455,6 +449,34 @@ fn add_body_forces(
         }
     }
     Ok(())
+}
+
+/// The nodal forces `fe` of one cell's body force in harmonic `m` (its
+/// symmetric family): the self-weight `-gamma` in z (m = 0, if `gravity`)
+/// and the seismic `k_h gamma` in +x (m = 1). `false`, `fe` untouched,
+/// when the cell has none in that harmonic.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn cell_body_load(
+    values: &mut crate::elements::CellValues,
+    kind: axijoint_mesh::CellKind,
+    coords: &[[f64; 2]],
+    m: u32,
+    gamma: f64,
+    k_h: f64,
+    gravity: bool,
+    fe: &mut [f64],
+) -> bool {
+    let b = match m {
+        0 if gravity => [0.0, -gamma, 0.0],
+        1 if k_h != 0.0 => [k_h * gamma, 0.0, -k_h * gamma],
+        _ => return false,
+    };
+    if gamma == 0.0 {
+        return false;
+    }
+    fe.fill(0.0);
+    body_force_load(values, kind, coords, m, b, fe);
+    true
 }
 
 pub(crate) const ANTISYMMETRIC_ZERO: &str =
@@ -482,26 +504,46 @@ pub(crate) fn point_off_axis(r: f64) -> String {
 /// assert_eq!(res.moment, [0.0, 8.0, 0.0]); // z * Fx
 /// ```
 pub fn load_resultants(loads: &[HarmonicLoads], mesh: &Mesh, z_ref: f64) -> Resultants {
-    let (mut force, mut moment) = ([0.0; 3], [0.0; 3]);
+    let mut out = Resultants {
+        force: [0.0; 3],
+        moment: [0.0; 3],
+    };
     for h in loads {
-        for (i, &[r, z]) in mesh.nodes.iter().enumerate() {
-            let d = z - z_ref;
-            let s = &h.symmetric[DOF_PER_NODE * i..DOF_PER_NODE * (i + 1)];
-            let a = &h.antisymmetric[DOF_PER_NODE * i..DOF_PER_NODE * (i + 1)];
-            match h.m {
-                0 => {
-                    force[2] += s[1];
-                    moment[2] += r * s[2];
-                }
-                1 => {
-                    force[0] += s[0] - s[2];
-                    moment[1] += d * (s[0] - s[2]) - r * s[1];
-                    force[1] += a[0] - a[2];
-                    moment[0] += -d * (a[0] - a[2]) + r * a[1];
-                }
-                _ => {}
-            }
+        for (i, &x) in mesh.nodes.iter().enumerate() {
+            let dofs = DOF_PER_NODE * i..DOF_PER_NODE * (i + 1);
+            let s = &h.symmetric[dofs.clone()];
+            let a = &h.antisymmetric[dofs];
+            add_node_resultant(h.m, x, [s[0], s[1], s[2]], [a[0], a[1], a[2]], z_ref, &mut out);
         }
     }
-    Resultants { force, moment }
+    out
+}
+
+/// Adds to `out` the Cartesian resultant about `(0, 0, z_ref)` of the
+/// harmonic-`m` nodal forces `s` (symmetric family) and `a`
+/// (antisymmetric) of a node at `[r, z]`, `(f_r, f_z, f_theta)` each; only
+/// harmonics 0 and 1 have one.
+pub fn add_node_resultant(
+    m: u32,
+    [r, z]: [f64; 2],
+    s: [f64; 3],
+    a: [f64; 3],
+    z_ref: f64,
+    out: &mut Resultants,
+) {
+    let d = z - z_ref;
+    let Resultants { force, moment } = out;
+    match m {
+        0 => {
+            force[2] += s[1];
+            moment[2] += r * s[2];
+        }
+        1 => {
+            force[0] += s[0] - s[2];
+            moment[1] += d * (s[0] - s[2]) - r * s[1];
+            force[1] += a[0] - a[2];
+            moment[0] += -d * (a[0] - a[2]) + r * a[1];
+        }
+        _ => {}
+    }
 }

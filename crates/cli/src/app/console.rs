@@ -198,8 +198,58 @@ fn print_faces(scene: &Scene, header: &SolutionHeader, out: &Path) {
             r.on
         );
     }
+    for m in &header.members {
+        print_member(m, &u.force, &u.length);
+    }
     crate::say!("  written to {}", out.display());
     for w in header.record.iter().flat_map(|r| &r.warnings) {
         crate::say!("  WARNING: {w}");
+    }
+}
+
+/// A member's capacity split (axial, and lateral along the applied
+/// lateral load) and its largest bending moment. A share is what the
+/// surroundings carry, with the sign of the load it carries.
+fn print_member(m: &axijoint_solver::members::MemberForces, force: &str, length: &str) {
+    let s = &m.split;
+    let share = |carried: f64, total: f64| {
+        if total != 0.0 {
+            format!("{carried:.4e} ({:.1} %)", 100.0 * carried / total)
+        } else {
+            format!("{carried:.4e}")
+        }
+    };
+    let total_z = s.applied[2] + s.weight[2];
+    let weight = if s.weight[2] != 0.0 {
+        format!(" and weight {:.4e}", s.weight[2])
+    } else {
+        String::new()
+    };
+    crate::say!(
+        "  member {}: axial load {:.4e}{weight} {force}: shaft {}, base {}",
+        m.body,
+        s.applied[2],
+        share(-s.shaft[2], total_z),
+        share(-s.base[2], total_z),
+    );
+    let lateral = s.applied[0].hypot(s.applied[1]);
+    let bending = |st: &axijoint_solver::members::Station| st.moment[0].hypot(st.moment[1]);
+    let largest = m.stations.iter().max_by(|a, b| bending(a).total_cmp(&bending(b)));
+    if let Some(st) = largest.filter(|st| lateral > 0.0 || bending(st) > 0.0) {
+        let along = |v: [f64; 3]| {
+            if lateral > 0.0 {
+                (v[0] * s.applied[0] + v[1] * s.applied[1]) / lateral
+            } else {
+                0.0
+            }
+        };
+        crate::say!(
+            "  member {}: lateral load {lateral:.4e} {force}: shaft {}, base {}; largest bending moment {:.4e} {force} {length} at z = {:.4} {length}",
+            m.body,
+            share(-along(s.shaft), lateral),
+            share(-along(s.base), lateral),
+            bending(st),
+            st.z
+        );
     }
 }

@@ -1,5 +1,6 @@
 //! [`write_report`]: every output of a solution folder, each made by its
-//! own module (`cuts`, `joints`, `convergence`, `load_path`, `views`) from
+//! own module (`cuts`, `joints`, `convergence`, `load_path`, `members`,
+//! `views`) from
 //! what they share (`context`), the outputs written in parallel.
 
 mod context;
@@ -7,6 +8,7 @@ mod convergence;
 mod cuts;
 mod joints;
 mod load_path;
+mod members;
 mod views;
 
 pub use context::fmt_angle;
@@ -91,6 +93,9 @@ pub fn write_report(
     }
     if let Some(path) = &path {
         tasks.push(Box::new(move || load_path::write(ctx, path)));
+    }
+    for member in &saved.header.members {
+        tasks.push(Box::new(move || members::write(ctx, member)));
     }
     let views = tasks.len();
     if outputs.vtu {

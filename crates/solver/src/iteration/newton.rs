@@ -293,13 +293,7 @@ pub(super) fn newton(
     progress: &mut dyn FnMut(&IterationRecord),
 ) -> Result<Converged, Box<Failure>> {
     if sweep.setup.softened() {
-        let mut form = Traction::new(
-            *sweep,
-            std::env::var("XCM")
-                .ok()
-                .and_then(|v| v.parse().ok())
-                .unwrap_or(settings.coupled_max),
-        );
+        let mut form = Traction::new(*sweep, settings.coupled_max);
         let y0 = form.start(&from);
         solve(sweep, &mut form, y0, settings, from, progress)
     } else {

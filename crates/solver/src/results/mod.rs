@@ -115,6 +115,10 @@ pub struct SolutionHeader {
     /// for a linear run).
     #[serde(rename = "extra", default)]
     pub record: Option<RunRecord>,
+    /// Member forces of the bodies in `outputs.members` (a finished run's
+    /// last converged state).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub members: Vec<crate::members::MemberForces>,
     /// The initial phase, if the scene has one: the displacements above are
     /// relative to its end.
     #[serde(default, skip_serializing_if = "Option::is_none")]

@@ -15,6 +15,7 @@ use crate::scene::Scene;
 pub fn solution_header(scene: &Scene, run: &Run) -> SolutionHeader {
     let mut header = bare_header(scene, run);
     header.record = record(scene, run);
+    header.members = members(scene, run);
     if let Some(limit) = run.load_path.as_ref().and_then(|p| p.limit.as_ref()) {
         let a = &mut header.applied;
         for v in a.force.iter_mut().chain(a.moment.iter_mut()) {
@@ -88,6 +89,20 @@ pub fn record(scene: &Scene, run: &Run) -> Option<RunRecord> {
     (r != RunRecord::default()).then_some(r)
 }
 
+/// The member forces of the bodies in `outputs.members` at the last
+/// converged load factor.
+fn members(scene: &Scene, run: &Run) -> Vec<crate::members::MemberForces> {
+    let model = &run.problem.model;
+    let lambda = run.load_path.as_ref().map_or(1.0, LoadPath::reached);
+    scene
+        .outputs
+        .members
+        .iter()
+        .filter_map(|name| model.mesh.body(name))
+        .map(|body| crate::members::member_forces(scene, model, &run.loads, lambda, &run.displacements, body))
+        .collect()
+}
+
 /// Each joint's springs as solved and their source, by name.
 fn joint_springs(scene: &Scene, run: &Run) -> std::collections::BTreeMap<String, JointSpringsRecord> {
     let model = &run.problem.model;
@@ -159,6 +174,7 @@ fn bare_header(scene: &Scene, run: &Run) -> SolutionHeader {
         max_displacement: max_displacement(mesh.nodes.len(), &run.displacements),
         timings: run.timings.clone(),
         record: None,
+        members: Vec::new(),
         initial: run.initial.as_ref().map(initial_info),
     }
 }

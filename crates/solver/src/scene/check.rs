@@ -571,6 +571,9 @@ impl Scene {
                 });
             }
         }
+        for (i, name) in self.outputs.members.iter().enumerate() {
+            self.surface(mesh, name, format!("outputs.members[{i}]"))?;
+        }
         for k in 0..self.load_cases.len() {
             self.case(k).check_loads_on(mesh).map_err(|e| e.in_case(k))?;
         }

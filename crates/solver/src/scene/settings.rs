@@ -548,6 +548,11 @@ pub struct Outputs {
     /// gmsh post-processing view of the meridional fields at the cuts' angles.
     #[serde(default = "yes")]
     pub gmsh_views: bool,
+    /// Bodies read as members along the axis (a pile, an anchor): their
+    /// section forces, the surroundings' reaction and the capacity split
+    /// ([`crate::members`]; `member_<body>.csv`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub members: Vec<String>,
 }
 
 fn yes() -> bool {
@@ -626,6 +631,7 @@ impl Default for Outputs {
             vtu_fields: Outputs::default_vtu_fields(),
             vtu_compress: false,
             gmsh_views: true,
+            members: Vec::new(),
         }
     }
 }
