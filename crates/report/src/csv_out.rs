@@ -301,3 +301,98 @@ pub fn write_reaction(
     rows.push(row);
     write_atomic(path, &header, &rows, &numbers)
 }
+
+/// The reaction curves of a member over a load path: per converged step
+/// (`lambda`) one row per shaft segment (`part` = shaft: the segment's
+/// mean motion, its reaction per unit length and in total) and one for the
+/// base plane (`part` = base: the base's motion, the totals only). The
+/// motions are from the unloaded state; a segment's is the mean of its two
+/// stations'.
+pub fn write_reaction_curves(
+    path: &Path,
+    steps: &[(f64, &MemberForces)],
+    length: &str,
+    force: &str,
+) -> Result<(), ReportError> {
+    let header: Vec<String> = [
+        "lambda [-]".to_string(),
+        "part".to_string(),
+        format!("z_top [{length}]"),
+        format!("z_bottom [{length}]"),
+        format!("u_x [{length}]"),
+        format!("u_y [{length}]"),
+        format!("u_z [{length}]"),
+        "phi_x [rad]".to_string(),
+        "phi_y [rad]".to_string(),
+        "phi_z [rad]".to_string(),
+        format!("p_x [{force}/{length}]"),
+        format!("p_y [{force}/{length}]"),
+        format!("t [{force}/{length}]"),
+        format!("m_x [{force}]"),
+        format!("m_y [{force}]"),
+        format!("t_theta [{force}]"),
+        format!("F_x [{force}]"),
+        format!("F_y [{force}]"),
+        format!("F_z [{force}]"),
+        format!("M_x [{force} {length}]"),
+        format!("M_y [{force} {length}]"),
+        format!("M_z [{force} {length}]"),
+    ]
+    .into();
+    let mut numbers = Vec::new();
+    let mut rows = Vec::new();
+    let fmt_rotation = |phi: Option<[f64; 3]>, numbers: &mut Vec<f64>| -> Vec<String> {
+        match phi {
+            Some(p) => {
+                numbers.extend(p);
+                p.map(num).to_vec()
+            }
+            None => vec![String::new(); 3],
+        }
+    };
+    for &(lambda, m) in steps {
+        for (k, s) in m.segments.iter().enumerate() {
+            let (a, b) = (&m.stations[k], &m.stations[k + 1]);
+            let l = s.z_top - s.z_bottom;
+            let u = [0, 1, 2].map(|c| 0.5 * (a.displacement[c] + b.displacement[c]));
+            let phi = a
+                .rotation
+                .zip(b.rotation)
+                .map(|(p, q)| [0, 1, 2].map(|c| 0.5 * (p[c] + q[c])));
+            let head = [lambda, s.z_top, s.z_bottom].into_iter().chain(u);
+            let mut row = vec![num(lambda), "shaft".to_string()];
+            let head: Vec<f64> = head.collect();
+            numbers.extend(&head);
+            row.extend(head[1..].iter().map(|&v| num(v)));
+            row.extend(fmt_rotation(phi, &mut numbers));
+            let tail: Vec<f64> = s
+                .force
+                .map(|f| f / l)
+                .into_iter()
+                .chain(s.moment.map(|v| v / l))
+                .chain(s.force)
+                .chain(s.moment)
+                .collect();
+            numbers.extend(&tail);
+            row.extend(tail.into_iter().map(num));
+            rows.push(row);
+        }
+        if let Some(toe) = m.stations.last() {
+            let b = &m.base;
+            let head = [lambda, b.z, b.z]
+                .into_iter()
+                .chain(toe.displacement)
+                .collect::<Vec<_>>();
+            numbers.extend(&head);
+            let mut row = vec![num(lambda), "base".to_string()];
+            row.extend(head[1..].iter().map(|&v| num(v)));
+            row.extend(fmt_rotation(toe.rotation, &mut numbers));
+            row.extend(std::iter::repeat_n(String::new(), 6));
+            let totals: Vec<f64> = b.force.into_iter().chain(b.moment).collect();
+            numbers.extend(&totals);
+            row.extend(totals.into_iter().map(num));
+            rows.push(row);
+        }
+    }
+    write_atomic(path, &header, &rows, &numbers)
+}

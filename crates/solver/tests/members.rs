@@ -182,3 +182,78 @@ fn the_pile_in_soil_balances_station_by_station() {
         mf.split
     );
 }
+
+/// A monopile of our own (`geo/monopile.geo`: D = 8 m, L / D = 4, solid,
+/// coarse mesh), 10 MN sideways 20 m above the ground, bonded to elastic
+/// soil and with rigid Mohr-Coulomb joints (no tension, c = 0.05 MPa)
+/// loaded in three steps: at every step the four PISA components (the
+/// distributed load p and moment m of the shaft segments, the base shear
+/// H_b and moment M_b) balance the load at the ground to 1e-9 of H e.
+#[test]
+fn a_monopile_s_pisa_components_balance_the_load_at_every_step() {
+    let (h, e) = (10.0, 20.0);
+    for joints in [false, true] {
+        let joint = r#"{"bottom": "pile", "top": "soil", "law": {"type": "mohr_coulomb", "cohesion": 0.05, "friction_deg": 0, "tensile_strength": 0}}"#;
+        let (joints_json, solver) = if joints {
+            (
+                format!(r#""joints": {{"pile_side": {joint}, "pile_base": {joint}}},"#),
+                r#""solver": {"method": "newton", "loading": {"steps": 3}},"#,
+            )
+        } else {
+            (String::new(), "")
+        };
+        let text = format!(
+            r#"{{
+          "mesh": {{"file": "monopile.geo", "parameters": {{"size": 2, "coarsen": 4}}}},
+          "materials": {{"pile": {{"E": 2.0e4, "nu": 0.3}}, "soil": {{"E": 60, "nu": 0.35}}}},
+          {joints_json}
+          "supports": [{{"on": "soil_outer", "fix": "all"}}, {{"on": "soil_bottom", "fix": "all"}}],
+          "loads": [{{"type": "resultant", "on": "pile_head", "force": [{h}, 0, 0], "at_z": {e}}}],
+          "harmonics": 2,
+          {solver}
+          "outputs": {{"members": ["pile"]}}
+        }}"#
+        );
+        let scene = Scene::from_str(&text, geo("monopile.json")).unwrap_or_else(|e| panic!("{e}"));
+        let run = solve_scene(&scene, None, |_| {}).unwrap_or_else(|e| panic!("{}", e.error));
+        let header = solution_header(&scene, &run);
+        let mut states: Vec<(f64, MemberForces)> = header
+            .record
+            .as_ref()
+            .and_then(|r| r.load_path.as_ref())
+            .map(|p| {
+                p.steps
+                    .iter()
+                    .map(|s| (s.lambda, s.observed.members[0].clone()))
+                    .collect()
+            })
+            .unwrap_or_default();
+        states.push((1.0, header.members[0].clone()));
+        assert_eq!(states.len(), if joints { 4 } else { 1 });
+        for (lambda, mf) in &states {
+            let (hl, ml) = (lambda * h, lambda * h * e);
+            let (mut f, mut m) = ([0.0; 3], [0.0; 3]);
+            for seg in &mf.segments {
+                let zm = 0.5 * (seg.z_top + seg.z_bottom);
+                let ms = moved(seg.force, seg.moment, zm, 0.0);
+                for c in 0..3 {
+                    f[c] += seg.force[c];
+                    m[c] += ms[c];
+                }
+            }
+            let mb = moved(mf.base.force, mf.base.moment, mf.base.z, 0.0);
+            let head = &mf.stations[0];
+            println!(
+                "joints {joints}, lambda {lambda}: integral p = {:.6e}, H_b = {:.6e}, moment of p and m at the ground {:.6e}, M_b {:.6e}; head (H, M) = ({:.6e}, {:.6e})",
+                f[0], mf.base.force[0], m[1], mb[1], head.force[0], head.moment[1]
+            );
+            assert!((head.force[0] - hl).abs() < 1e-9 * ml && (head.moment[1] - ml).abs() < 1e-9 * ml);
+            assert!((f[0] + mf.base.force[0] + hl).abs() < 1e-9 * ml);
+            assert!((m[1] + mb[1] + ml).abs() < 1e-9 * ml);
+            // The soil in front carries the load: p against the load near
+            // the head, the base shear and moment small beside the shaft's.
+            assert!(mf.segments[0].force[0] < 0.0);
+            assert!(mf.base.moment[1].abs() < 0.25 * ml, "{:?}", mf.base);
+        }
+    }
+}

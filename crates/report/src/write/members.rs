@@ -1,13 +1,23 @@
 //! A member's files: its section forces and motion (`member_<body>.csv`),
-//! the surroundings' reaction (`reaction_<body>.csv`) and their plots.
+//! the surroundings' reaction (`reaction_<body>.csv`), their plots, and
+//! over a load path the reaction curves (`reaction_curves_<body>.csv`, the
+//! p-y family).
 
 use super::context::Ctx;
 use crate::error::ReportError;
 use crate::{csv_out, plots};
 use axijoint_solver::members::MemberForces;
+use axijoint_solver::results::LoadPath;
+
+/// Segments drawn in the p-y plot (evenly spread over the member).
+const CURVES_DRAWN: usize = 8;
 
 /// Writes the member's files; returns their names.
-pub(super) fn write(ctx: Ctx, member: &MemberForces) -> Result<Vec<String>, ReportError> {
+pub(super) fn write(
+    ctx: Ctx,
+    member: &MemberForces,
+    path: Option<&LoadPath>,
+) -> Result<Vec<String>, ReportError> {
     let (dir, outputs) = (ctx.dir, ctx.outputs);
     let (length, force) = (ctx.length, ctx.scene.units.force.as_str());
     let body = &member.body;
@@ -20,8 +30,22 @@ pub(super) fn write(ctx: Ctx, member: &MemberForces) -> Result<Vec<String>, Repo
         csv_out::write_reaction(&dir.join(&name), member, length, force)?;
         files.push(name);
     }
+    // The member at every converged step of a load path.
+    let steps: Vec<(f64, &MemberForces)> = path
+        .into_iter()
+        .flat_map(|p| &p.steps)
+        .filter_map(|s| Some((s.lambda, s.observed.members.iter().find(|m| m.body == *body)?)))
+        .collect();
+    if outputs.csv && !steps.is_empty() {
+        let name = format!("reaction_curves_{body}.csv");
+        csv_out::write_reaction_curves(&dir.join(&name), &steps, length, force)?;
+        files.push(name);
+    }
     if !outputs.plots {
         return Ok(files);
+    }
+    if let Some(name) = p_y_plot(ctx, body, &steps)? {
+        files.extend(ctx.plot_files(&name));
     }
     let st = &member.stations;
     let along = |label: &str, color: usize, value: &dyn Fn(usize) -> f64| plots::Series {
@@ -108,4 +132,55 @@ pub(super) fn write(ctx: Ctx, member: &MemberForces) -> Result<Vec<String>, Repo
         files.extend(ctx.plot_files(&name));
     }
     Ok(files)
+}
+
+/// The p-y curves of a load path: `p_x` against the segment's mean `u_x`
+/// from the unloaded state, [`CURVES_DRAWN`] segments spread over the
+/// member; `None` without steps or lateral reaction.
+fn p_y_plot(ctx: Ctx, body: &str, steps: &[(f64, &MemberForces)]) -> Result<Option<String>, ReportError> {
+    let (length, force) = (ctx.length, ctx.scene.units.force.as_str());
+    let Some((_, last)) = steps.last() else {
+        return Ok(None);
+    };
+    let n = last.segments.len();
+    if n == 0 || last.segments.iter().all(|s| s.force[0] == 0.0) {
+        return Ok(None);
+    }
+    let picks: Vec<usize> = if n <= CURVES_DRAWN {
+        (0..n).collect()
+    } else {
+        (0..CURVES_DRAWN)
+            .map(|i| i * (n - 1) / (CURVES_DRAWN - 1))
+            .collect()
+    };
+    let series: Vec<plots::Series> = picks
+        .iter()
+        .enumerate()
+        .map(|(color, &k)| {
+            let seg = &last.segments[k];
+            plots::Series {
+                label: format!("z = {:.3} to {:.3}", seg.z_top, seg.z_bottom),
+                points: std::iter::once((0.0, 0.0))
+                    .chain(steps.iter().filter_map(|(_, m)| {
+                        let s = m.segments.get(k)?;
+                        let u = 0.5 * (m.stations[k].displacement[0] + m.stations[k + 1].displacement[0]);
+                        Some((u, s.force[0] / (s.z_top - s.z_bottom)))
+                    }))
+                    .collect(),
+                color,
+                dash: 0,
+            }
+        })
+        .collect();
+    let name = format!("member_{body}_p_y");
+    let title = format!("{body}: p-y curves (reaction p_x per unit length against the mean u_x)");
+    plots::plot_profile(
+        &ctx.dir.join(format!("{name}.svg")),
+        ctx.png(&name).as_deref(),
+        &title,
+        &format!("u_x ({length})"),
+        &format!("p_x ({force}/{length})"),
+        &series,
+    )?;
+    Ok(Some(name))
 }

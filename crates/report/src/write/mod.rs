@@ -95,7 +95,8 @@ pub fn write_report(
         tasks.push(Box::new(move || load_path::write(ctx, path)));
     }
     for member in &saved.header.members {
-        tasks.push(Box::new(move || members::write(ctx, member)));
+        let path = path.as_deref();
+        tasks.push(Box::new(move || members::write(ctx, member, path)));
     }
     let views = tasks.len();
     if outputs.vtu {

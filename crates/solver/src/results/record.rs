@@ -141,6 +141,10 @@ pub struct StepMeasure {
     pub faces: Vec<FaceMotion>,
     /// Each joint's areas by state.
     pub joints: Vec<JointAreas>,
+    /// The member forces of the bodies in `outputs.members` at the step
+    /// (their reaction curves).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub members: Vec<crate::members::MemberForces>,
 }
 
 /// The motion of a loaded face.

@@ -62,7 +62,13 @@ pub(super) fn iterate(
     };
     let mesh = &model.mesh;
     let springs: Vec<_> = model.joints.iter().map(|j| j.springs).collect();
-    let observe = |_lambda: f64, u: &Displacements, field: &JointField| {
+    let member_bodies: Vec<usize> = scene
+        .outputs
+        .members
+        .iter()
+        .filter_map(|b| mesh.body(b))
+        .collect();
+    let observe = |lambda: f64, u: &Displacements, field: &JointField| {
         let d = padded(u, all);
         let file = JointFieldFile::new(mesh, &springs, field);
         StepMeasure {
@@ -83,6 +89,10 @@ pub(super) fn iterate(
                         stick,
                     }
                 })
+                .collect(),
+            members: member_bodies
+                .iter()
+                .map(|&b| crate::members::member_forces(scene, model, all, lambda, &d, b))
                 .collect(),
         }
     };
