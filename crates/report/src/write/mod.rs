@@ -95,7 +95,6 @@ pub fn write_report(
         tasks.push(Box::new(move || load_path::write(ctx, path)));
     }
     for member in &saved.header.members {
-        let path = path.as_deref();
         tasks.push(Box::new(move || members::write(ctx, member, path)));
     }
     let views = tasks.len();
