@@ -110,7 +110,11 @@ def test_sweep_reports_a_failing_cell():
     law = "joints.pile_side.law"
     grid = {f"{law}.cohesion": [0.5, 0.05], f"{law}.tensile_strength": [0.0, 0.1]}
     table = axijoint.sweep(
-        SCENE, grid, overrides={"mesh.parameters.size": COARSE}, n_workers=2, progress=False
+        SCENE,
+        grid,
+        overrides={"mesh.parameters.size": COARSE, "outputs.members": ["pile"]},
+        n_workers=2,
+        progress=False,
     )
     assert len(table) == 4
     assert list(table.columns[:5]) == [f"{law}.cohesion", f"{law}.tensile_strength", "converged", "error", "exit_status"]
@@ -122,13 +126,15 @@ def test_sweep_reports_a_failing_cell():
     assert f"{law}.tensile_strength" in bad["error"] and bad["exit_status"] == 1
     ok = table[table["error"].isna()]
     assert ok["converged"].all()
-    for column in ["max_displacement", "pile_end_ux", "pile_side_open_area", "pile_side_slip_area", "pile_side_stick_area", "seconds"]:
+    for column in ["max_displacement", "pile_end_ux", "pile_side_open_area", "pile_side_slip_area", "pile_side_stick_area", "pile_shaft_x", "pile_max_moment", "seconds"]:
         assert ok[column].notna().all(), column
     # The cell (C = 0.5, T = 0) is the run of the scene as it is.
     r = axijoint.run(SCENE, overrides={"mesh.parameters.size": COARSE}, report=True, without_joints=False)
     first = ok.iloc[0]
     assert math.isclose(first["max_displacement"], r.summary["max_displacement"], rel_tol=1e-9)
     assert math.isclose(first["pile_end_ux"], r.summary["loaded_faces"]["pile_end"][0], rel_tol=1e-9)
+    # The member columns: the shaft and the base carry the applied 0.5 MN.
+    assert (abs(ok["pile_shaft_x"] + ok["pile_base_x"] + 0.5) < 1e-9).all()
 
 
 def test_the_gil_is_released_while_solving():
@@ -276,3 +282,39 @@ def test_a_rigid_joint_by_override_runs_and_reports_its_springs(tmp_path):
         axijoint.run(SCENE, overrides={"joints.pile_side.stiffness": "rigid"})
     with pytest.raises(axijoint.InputError, match=r"joints\.pile_side\.stiffness: 'stiff' is not a stiffness"):
         axijoint.run(SCENE, overrides={"joints.pile_side.stiffness": "stiff"})
+
+
+def test_members_come_as_dataframes_that_balance_the_load(tmp_path):
+    r = axijoint.run(
+        SCENE,
+        tmp_path / "m",
+        overrides={
+            "mesh.parameters.size": COARSE,
+            "outputs.members": ["pile"],
+            "solver.method": "newton",
+            "solver.loading": {"steps": 2},
+        },
+        without_joints=False,
+    )
+    stations = r.members["pile"]
+    assert list(stations.columns[:7]) == ["z", "N", "V_x", "V_y", "M_x", "M_y", "T"]
+    assert stations["z"].is_monotonic_decreasing
+    # The same numbers as the binary's CSV.
+    csv = __import__("pandas").read_csv(tmp_path / "m" / "member_pile.csv")
+    assert np.allclose(csv["N [MN]"], stations["N"], rtol=1e-9, atol=1e-15)
+    assert np.allclose(csv["M_y [MN m]"], stations["M_y"], rtol=1e-9, atol=1e-15)
+    # Shaft and base balance the applied 0.5 MN (statics, to round-off).
+    reaction = r.reaction("pile")
+    assert list(reaction["part"].unique()) == ["shaft", "base"]
+    assert abs(reaction["F_x"].sum() + 0.5) < 1e-9
+    split = r.capacity_split("pile")
+    assert abs(split["applied"][0] - 0.5) < 1e-12
+    assert abs(split["shaft"][0] + split["base"][0] + 0.5) < 1e-9
+    # One block of rows per converged step, the last one the final state.
+    curves = r.reaction_curves("pile")
+    assert sorted(curves["lambda"].unique()) == [0.5, 1.0]
+    last = curves[curves["lambda"] == 1.0].reset_index(drop=True)
+    assert np.allclose(last["F_x"], reaction["F_x"], rtol=1e-9, atol=1e-15)
+    assert r.summary["members"]["pile"]["split"] == split
+    with pytest.raises(axijoint.InputError, match="no member 'footing'"):
+        r.reaction("footing")

@@ -109,6 +109,43 @@ pub struct CapacitySplit {
     pub base: [f64; 3],
 }
 
+/// The key numbers of a member (`summary.json`).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MemberSummary {
+    /// Where the load goes.
+    pub split: CapacitySplit,
+    /// The largest bending moment `|(M_x, M_y)|` over the stations.
+    pub max_moment: f64,
+    /// Its station's height.
+    pub max_moment_z: f64,
+    /// The largest `|N|` over the stations.
+    pub max_axial: f64,
+    /// The top station's mean displacement.
+    pub head_displacement: [f64; 3],
+    /// The top station's rotation.
+    pub head_rotation: Option<[f64; 3]>,
+}
+
+impl MemberForces {
+    /// The key numbers.
+    pub fn summary(&self) -> MemberSummary {
+        let bending = |s: &Station| s.moment[0].hypot(s.moment[1]);
+        let largest = self
+            .stations
+            .iter()
+            .max_by(|a, b| bending(a).total_cmp(&bending(b)));
+        let head = self.stations.first();
+        MemberSummary {
+            split: self.split,
+            max_moment: largest.map_or(0.0, bending),
+            max_moment_z: largest.map_or(0.0, |s| s.z),
+            max_axial: self.stations.iter().map(|s| s.force[2].abs()).fold(0.0, f64::max),
+            head_displacement: head.map_or([0.0; 3], |s| s.displacement),
+            head_rotation: head.and_then(|s| s.rotation),
+        }
+    }
+}
+
 /// Per node of the member: the resultants about the origin of its applied
 /// surface load and of the surroundings' reaction.
 struct NodeForces {

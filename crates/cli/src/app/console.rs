@@ -233,9 +233,8 @@ fn print_member(m: &axijoint_solver::members::MemberForces, force: &str, length:
         share(-s.base[2], total_z),
     );
     let lateral = s.applied[0].hypot(s.applied[1]);
-    let bending = |st: &axijoint_solver::members::Station| st.moment[0].hypot(st.moment[1]);
-    let largest = m.stations.iter().max_by(|a, b| bending(a).total_cmp(&bending(b)));
-    if let Some(st) = largest.filter(|st| lateral > 0.0 || bending(st) > 0.0) {
+    let key = m.summary();
+    if lateral > 0.0 || key.max_moment > 0.0 {
         let along = |v: [f64; 3]| {
             if lateral > 0.0 {
                 (v[0] * s.applied[0] + v[1] * s.applied[1]) / lateral
@@ -248,8 +247,8 @@ fn print_member(m: &axijoint_solver::members::MemberForces, force: &str, length:
             m.body,
             share(-along(s.shaft), lateral),
             share(-along(s.base), lateral),
-            bending(st),
-            st.z
+            key.max_moment,
+            key.max_moment_z
         );
     }
 }

@@ -73,6 +73,9 @@ pub struct Summary {
     pub units: Units,
     /// Plausibility warnings (docs/outputs.md, "Warnings").
     pub warnings: Vec<String>,
+    /// The key numbers of each member (`outputs.members`).
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub members: BTreeMap<String, axijoint_solver::members::MemberSummary>,
 }
 
 /// A joint's areas by state (length^2).
@@ -198,6 +201,7 @@ pub fn write_outputs(dir: &Path, compare: &[PathBuf]) -> Result<Summary> {
         title: h.scene.title.clone(),
         units: h.scene.units.clone(),
         warnings: record.warnings.clone(),
+        members: h.members.iter().map(|m| (m.body.clone(), m.summary())).collect(),
     };
     let path = dir.join("summary.json");
     axijoint_mesh::atomic::write_bytes(&path, serde_json::to_string_pretty(&summary)?.as_bytes())?;

@@ -154,6 +154,58 @@ def _fmt_angle(theta: float) -> str:
     return s.replace("-", "m")
 
 
+def _stations(member: dict):
+    import pandas as pd
+
+    rows = []
+    for st in member["stations"]:
+        f, m, u = st["force"], st["moment"], st["displacement"]
+        phi = st.get("rotation") or [float("nan")] * 3
+        rows.append(
+            dict(
+                z=st["z"], N=f[2], V_x=f[0], V_y=f[1], M_x=m[0], M_y=m[1], T=m[2],
+                u_x=u[0], u_y=u[1], u_z=u[2], phi_x=phi[0], phi_y=phi[1], phi_z=phi[2],
+            )
+        )
+    return pd.DataFrame(rows)
+
+
+def _reaction(member: dict, lam: float | None):
+    """Segments then the base, as reaction_<body>.csv (with the segments'
+    mean motion, and `lambda` when given)."""
+    import pandas as pd
+
+    nan = float("nan")
+    st = member["stations"]
+    rows = []
+    for k, seg in enumerate(member["segments"]):
+        length = seg["z_top"] - seg["z_bottom"]
+        a, b = st[k], st[k + 1]
+        u = [(a["displacement"][c] + b["displacement"][c]) / 2 for c in range(3)]
+        f, m = seg["force"], seg["moment"]
+        rows.append(
+            dict(
+                part="shaft", z_top=seg["z_top"], z_bottom=seg["z_bottom"], u_x=u[0], u_y=u[1], u_z=u[2],
+                p_x=f[0] / length, p_y=f[1] / length, t=f[2] / length,
+                m_x=m[0] / length, m_y=m[1] / length, t_theta=m[2] / length,
+                F_x=f[0], F_y=f[1], F_z=f[2], M_x=m[0], M_y=m[1], M_z=m[2],
+            )
+        )
+    base, toe = member["base"], st[-1]
+    f, m, u = base["force"], base["moment"], toe["displacement"]
+    rows.append(
+        dict(
+            part="base", z_top=base["z"], z_bottom=base["z"], u_x=u[0], u_y=u[1], u_z=u[2],
+            p_x=nan, p_y=nan, t=nan, m_x=nan, m_y=nan, t_theta=nan,
+            F_x=f[0], F_y=f[1], F_z=f[2], M_x=m[0], M_y=m[1], M_z=m[2],
+        )
+    )
+    frame = pd.DataFrame(rows)
+    if lam is not None:
+        frame.insert(0, "lambda", lam)
+    return frame
+
+
 class Result:
     """The solution folder of one run.
 
@@ -224,6 +276,45 @@ class Result:
 
         path = self.folder / "load_path.csv"
         return pd.read_csv(path) if path.is_file() else None
+
+    @property
+    def members(self) -> dict:
+        """The member forces of each body in `outputs.members`: body ->
+        DataFrame, one row per station top to bottom (`z`, `N`, `V_x`,
+        `V_y`, `M_x`, `M_y`, `T`, `u_x`, `u_y`, `u_z`, `phi_x`, `phi_y`,
+        `phi_z`; conventions in docs/outputs.md)."""
+        return {m["body"]: _stations(m) for m in self.solution.get("members", [])}
+
+    def reaction(self, body: str):
+        """The surroundings' reaction on member `body`: one row per shaft
+        segment (`part` = "shaft", per unit length and totals), then the
+        base (`part` = "base", totals)."""
+        return _reaction(self._member(body, self.solution.get("members", [])), None)
+
+    def reaction_curves(self, body: str):
+        """The reaction curves of member `body` over the converged load
+        steps (`lambda` column; as `reaction`, with each segment's mean
+        motion), `None` for a run without a load path."""
+        import pandas as pd
+
+        steps = ((self.solution.get("extra") or {}).get("load_path") or {}).get("steps") or []
+        frames = [
+            _reaction(self._member(body, s["observed"].get("members", [])), s["lambda"])
+            for s in steps
+        ]
+        return pd.concat(frames, ignore_index=True) if frames else None
+
+    def capacity_split(self, body: str) -> dict:
+        """Where member `body`'s load goes: `applied`, `weight`, `shaft`,
+        `base` as (x, y, z) forces (the reactions on the member)."""
+        return dict(self._member(body, self.solution.get("members", []))["split"])
+
+    def _member(self, body: str, members: list) -> dict:
+        for m in members:
+            if m["body"] == body:
+                return m
+        have = ", ".join(m["body"] for m in members) or "none (set outputs.members)"
+        raise InputError(f"{self.folder}: no member '{body}' (members: {have})")
 
     @property
     def displacement(self):

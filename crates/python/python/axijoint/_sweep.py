@@ -62,6 +62,14 @@ def _cell(path: str, text: str | None, params: dict, threads: int | None) -> dic
             for state in ("open", "slip", "stick"):
                 row[f"{joint}_{state}_area"] = areas.get(f"{state}_area")
         row["max_displacement"] = s.get("max_displacement")
+        for body, m in (s.get("members") or {}).items():
+            for part in ("shaft", "base"):
+                for c, v in zip(("x", "y", "z"), m["split"][part]):
+                    row[f"{body}_{part}_{c}"] = v
+            row[f"{body}_max_moment"] = m["max_moment"]
+            row[f"{body}_max_moment_z"] = m["max_moment_z"]
+            row[f"{body}_head_ux"] = m["head_displacement"][0]
+            row[f"{body}_head_uz"] = m["head_displacement"][2]
     except BaseException as e:  # a pyo3 panic is a BaseException
         if isinstance(e, (KeyboardInterrupt, SystemExit)):
             raise
@@ -106,8 +114,10 @@ def sweep(
     cell, else None), `exit_status` (as the binary's; 3 for a limit load
     factor below 1), `complete`, `load_factor`, `limit_load_factor`,
     `<face>_ux`, `_uy`, `_uz` per loaded face, `<joint>_open_area`,
-    `_slip_area`, `_stick_area` per joint, `max_displacement`, `seconds`
-    (the cell's wall time). A failing cell gives a row with its error and
+    `_slip_area`, `_stick_area` per joint, `max_displacement`, per member
+    of `outputs.members` its reactions `<body>_shaft_x`, `_y`, `_z` and
+    `<body>_base_x`, ..., `<body>_max_moment` (and `_max_moment_z`),
+    `<body>_head_ux`, `_head_uz`, `seconds` (the cell's wall time). A failing cell gives a row with its error and
     never stops the sweep. Only summary.json is written per cell, in a
     temporary folder (outputs.csv, plots, vtu and gmsh_views off), and the
     comparison run without joints is skipped.
