@@ -207,8 +207,8 @@ fn print_faces(scene: &Scene, header: &SolutionHeader, out: &Path) {
     }
 }
 
-/// A member's capacity split (axial, and lateral along the applied
-/// lateral load) and its largest bending moment. A share is what the
+/// A member's capacity split (axial when it carries an axial load, and
+/// lateral along the applied lateral load) and its largest bending moment. A share is what the
 /// surroundings carry, with the sign of the load it carries.
 fn print_member(m: &axijoint_solver::members::MemberForces, force: &str, length: &str) {
     let s = &m.split;
@@ -225,13 +225,15 @@ fn print_member(m: &axijoint_solver::members::MemberForces, force: &str, length:
     } else {
         String::new()
     };
-    crate::say!(
-        "  member {}: axial load {:.4e}{weight} {force}: shaft {}, base {}",
-        m.body,
-        s.applied[2],
-        share(-s.shaft[2], total_z),
-        share(-s.base[2], total_z),
-    );
+    if total_z != 0.0 {
+        crate::say!(
+            "  member {}: axial load {:.4e}{weight} {force}: shaft {}, base {}",
+            m.body,
+            s.applied[2],
+            share(-s.shaft[2], total_z),
+            share(-s.base[2], total_z),
+        );
+    }
     let lateral = s.applied[0].hypot(s.applied[1]);
     let key = m.summary();
     if lateral > 0.0 || key.max_moment > 0.0 {
