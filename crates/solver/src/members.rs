@@ -29,6 +29,8 @@
 
 use crate::elements::solid::{solid_stiffness, SolidScratch};
 use crate::elements::CellValues;
+use crate::iteration::JointField;
+use crate::joint_law::JointState;
 use crate::linear::Model;
 use crate::loads::{add_node_resultant, cell_body_load, HarmonicLoads, Resultants};
 use crate::scene::Scene;
@@ -52,6 +54,10 @@ pub struct MemberForces {
     pub base: BaseReaction,
     /// Where the load goes.
     pub split: CapacitySplit,
+    /// The length of the shaft open all round from the top down (its
+    /// joint open at every section), when a joint lines the shaft.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub open_from_top: Option<f64>,
 }
 
 /// Section resultants and motion at one station.
@@ -124,6 +130,9 @@ pub struct MemberSummary {
     pub head_displacement: [f64; 3],
     /// The top station's rotation.
     pub head_rotation: Option<[f64; 3]>,
+    /// [`MemberForces::open_from_top`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub open_from_top: Option<f64>,
 }
 
 impl MemberForces {
@@ -142,6 +151,7 @@ impl MemberForces {
             max_axial: self.stations.iter().map(|s| s.force[2].abs()).fold(0.0, f64::max),
             head_displacement: head.map_or([0.0; 3], |s| s.displacement),
             head_rotation: head.and_then(|s| s.rotation),
+            open_from_top: self.open_from_top,
         }
     }
 }
@@ -178,13 +188,15 @@ fn about(r: &Resultants, z: f64) -> Resultants {
 }
 
 /// The member forces of body `body` at load factor `lambda` (`loads` the
-/// whole load, unscaled; `u` the displacements at `lambda`).
+/// whole load, unscaled; `u` the displacements at `lambda`; `joints` the
+/// joint field there, if the model has joints).
 pub fn member_forces(
     scene: &Scene,
     model: &Model,
     loads: &[HarmonicLoads],
     lambda: f64,
     u: &Displacements,
+    joints: Option<&JointField>,
     body: usize,
 ) -> MemberForces {
     let mesh = &model.mesh;
@@ -401,6 +413,8 @@ pub fn member_forces(
         })
         .collect();
     let base = about(&split_base, z_base);
+    let z_top = zs.first().copied().unwrap_or(0.0);
+    let open_from_top = joints.and_then(|f| open_from_top(f, &on_member, z_top));
     MemberForces {
         body: mesh.bodies[body].name.clone(),
         stations,
@@ -416,7 +430,36 @@ pub fn member_forces(
             shaft: split_shaft.force,
             base: split_base.force,
         },
+        open_from_top,
     }
+}
+
+/// How far down from `z_top` the joint points on the member's shaft (the
+/// points of joint elements with a member node, their tangent steeper than
+/// 45 degrees) are open at every section: to midway between the lowest
+/// such point and the next one down; `None` without shaft points.
+fn open_from_top(field: &JointField, on_member: &[bool], z_top: f64) -> Option<f64> {
+    let n_p = field.points.len();
+    let mut shaft: Vec<(f64, bool)> = field
+        .points
+        .iter()
+        .enumerate()
+        .filter(|(_, info)| {
+            let [tr, tz] = info.point.tangent;
+            tz.abs() > tr.abs() && info.nodes.iter().any(|&k| on_member[k])
+        })
+        .map(|(p, info)| {
+            let open = (0..field.sections.len()).all(|s| field.state[s * n_p + p] == JointState::Open);
+            (info.point.position[1], open)
+        })
+        .collect();
+    shaft.sort_by(|a, b| b.0.total_cmp(&a.0));
+    let first_closed = shaft.iter().position(|&(_, open)| !open);
+    Some(match first_closed {
+        None => z_top - shaft.last()?.0,
+        Some(0) => 0.0,
+        Some(k) => z_top - 0.5 * (shaft[k - 1].0 + shaft[k].0),
+    })
 }
 
 /// The mean displacement and the rotation of each station's cross-section

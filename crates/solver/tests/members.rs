@@ -6,6 +6,7 @@
 //!
 //! Run with `--nocapture` to see the measured numbers.
 
+use axijoint_solver::joint_law::JointState;
 use axijoint_solver::members::MemberForces;
 use axijoint_solver::run::{solution_header, solve_scene};
 use axijoint_solver::scene::Scene;
@@ -256,4 +257,84 @@ fn a_monopile_s_pisa_components_balance_the_load_at_every_step() {
             assert!(mf.base.moment[1].abs() < 0.25 * ml, "{:?}", mf.base);
         }
     }
+}
+
+/// A bonded pile in elastic soil (`geo/pile_soil.json` without its joints,
+/// its head load 0.05 MN sideways only): the largest bending moment
+/// against Randolph's (1981) flexible-pile estimate `M_max = 0.1 H l_c`
+/// (homogeneous soil, free head), `l_c = D (E_p / G*)^(2/7)`,
+/// `G* = G (1 + 3 nu / 4)`, within 10 %; its depth within Randolph's
+/// moment profile's peak, 0.2 to 0.4 `l_c` (the Winkler analogue puts it
+/// at 0.24 `l_c`).
+#[test]
+fn a_bonded_pile_s_largest_moment_is_randolph_s() {
+    let path = geo("pile_soil.json");
+    let mut doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&path).expect("scene")).expect("json");
+    doc.as_object_mut().expect("object").remove("joints");
+    doc["loads"] = serde_json::json!([{"type": "resultant", "on": "pile_head", "force": [0.05, 0, 0]}]);
+    doc["harmonics"] = serde_json::json!(1);
+    doc["outputs"]["members"] = serde_json::json!(["pile"]);
+    let scene = Scene::from_str(&doc.to_string(), &path).unwrap_or_else(|e| panic!("{e}"));
+    let mf = members(&scene).remove(0);
+    let (d, e_p, e_s, nu, h): (f64, f64, f64, f64, f64) = (1.0, 3.0e4, 50.0, 0.3, 0.05);
+    let g_star = e_s / (2.0 * (1.0 + nu)) * (1.0 + 0.75 * nu);
+    let l_c = d * (e_p / g_star).powf(2.0 / 7.0);
+    let m_randolph = 0.1 * h * l_c;
+    let key = mf.summary();
+    let depth = -key.max_moment_z;
+    println!(
+        "l_c = {l_c:.3} m: M_max {:.5e} against Randolph {m_randolph:.5e} ({:+.2} %), at {depth:.3} m = {:.3} l_c",
+        key.max_moment,
+        100.0 * (key.max_moment / m_randolph - 1.0),
+        depth / l_c
+    );
+    assert!((key.max_moment / m_randolph - 1.0).abs() < 0.10);
+    assert!(
+        (0.2..=0.4).contains(&(depth / l_c)),
+        "depth {depth} m, l_c {l_c} m"
+    );
+}
+
+/// The pile in soil pulled up 0.4 MN (no weight, joints without tensile
+/// strength): the shaft opens from the top down; the length the member
+/// reports holds only open points at every section above it, and the
+/// shaft point next below is closed somewhere. The shaft carries the pull.
+#[test]
+fn a_pulled_pile_reports_how_far_its_shaft_is_open_all_round() {
+    let mut scene = Scene::from_path(geo("pile_soil.json")).unwrap_or_else(|e| panic!("{e}"));
+    scene.outputs.members = vec!["pile".into()];
+    let text = serde_json::to_string(&scene).expect("scene");
+    let text = text.replace("\"force\":[0.05,0.0,-0.3]", "\"force\":[0.0,0.0,0.4]");
+    let scene = Scene::from_str(&text, geo("pile_soil.json")).unwrap_or_else(|e| panic!("{e}"));
+    assert!(text.contains("[0.0,0.0,0.4]"), "the pull is applied");
+    let run = solve_scene(&scene, None, |_| {}).unwrap_or_else(|e| panic!("{}", e.error));
+    let mf = solution_header(&scene, &run).members.remove(0);
+    let d = mf.open_from_top.expect("a joint lines the shaft");
+    let field = run.joint_field(&scene).expect("field").expect("joints");
+    let n_p = field.points.len();
+    let z_top = mf.stations[0].z;
+    let mut above = 0;
+    let mut next_below: Option<(f64, bool)> = None;
+    for (p, info) in field.points.iter().enumerate() {
+        let [tr, tz] = info.point.tangent;
+        if tz.abs() <= tr.abs() {
+            continue;
+        }
+        let z = info.point.position[1];
+        let open = (0..field.sections.len()).all(|s| field.state[s * n_p + p] == JointState::Open);
+        if z > z_top - d {
+            assert!(open, "a point at z = {z} above the open length {d} is closed");
+            above += 1;
+        } else if next_below.is_none_or(|(zb, _)| z > zb) {
+            next_below = Some((z, open));
+        }
+    }
+    println!(
+        "open from the top: {d:.4} m over {above} points; next below {next_below:?}; split {:?}",
+        mf.split
+    );
+    assert!(above > 0 && d > 0.0 && d < 10.0);
+    assert_eq!(next_below.map(|(_, open)| open), Some(false));
+    assert!(-mf.split.shaft[2] > 0.95 * 0.4, "{:?}", mf.split);
 }

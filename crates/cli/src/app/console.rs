@@ -225,18 +225,27 @@ fn print_member(m: &axijoint_solver::members::MemberForces, force: &str, length:
     } else {
         String::new()
     };
+    let open = match m.open_from_top {
+        Some(d) if d > 0.0 => format!("; the top {d:.4} {length} of the shaft open all round"),
+        _ => String::new(),
+    };
     if total_z != 0.0 {
         crate::say!(
-            "  member {}: axial load {:.4e}{weight} {force}: shaft {}, base {}",
+            "  member {}: axial load {:.4e}{weight} {force}: shaft {}, base {}{open}",
             m.body,
             s.applied[2],
             share(-s.shaft[2], total_z),
             share(-s.base[2], total_z),
         );
+    } else if !open.is_empty() {
+        crate::say!("  member {}{open}", m.body);
     }
     let lateral = s.applied[0].hypot(s.applied[1]);
     let key = m.summary();
-    if lateral > 0.0 || key.max_moment > 0.0 {
+    // A bending moment above round-off of the load times the length.
+    let length_of = m.stations.first().map_or(0.0, |a| a.z) - m.stations.last().map_or(0.0, |b| b.z);
+    let scale = s.applied.iter().map(|f| f.abs()).fold(0.0, f64::max) * length_of;
+    if lateral > 0.0 || key.max_moment > 1e-9 * scale {
         let along = |v: [f64; 3]| {
             if lateral > 0.0 {
                 (v[0] * s.applied[0] + v[1] * s.applied[1]) / lateral

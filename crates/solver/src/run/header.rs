@@ -94,12 +94,23 @@ pub fn record(scene: &Scene, run: &Run) -> Option<RunRecord> {
 fn members(scene: &Scene, run: &Run) -> Vec<crate::members::MemberForces> {
     let model = &run.problem.model;
     let lambda = run.load_path.as_ref().map_or(1.0, LoadPath::reached);
+    let field = run.joint_field(scene).ok().flatten();
     scene
         .outputs
         .members
         .iter()
         .filter_map(|name| model.mesh.body(name))
-        .map(|body| crate::members::member_forces(scene, model, &run.loads, lambda, &run.displacements, body))
+        .map(|body| {
+            crate::members::member_forces(
+                scene,
+                model,
+                &run.loads,
+                lambda,
+                &run.displacements,
+                field.as_deref(),
+                body,
+            )
+        })
         .collect()
 }
 

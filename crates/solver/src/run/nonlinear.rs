@@ -92,7 +92,7 @@ pub(super) fn iterate(
                 .collect(),
             members: member_bodies
                 .iter()
-                .map(|&b| crate::members::member_forces(scene, model, all, lambda, &d, b))
+                .map(|&b| crate::members::member_forces(scene, model, all, lambda, &d, Some(field), b))
                 .collect(),
         }
     };
