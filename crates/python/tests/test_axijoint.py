@@ -316,5 +316,12 @@ def test_members_come_as_dataframes_that_balance_the_load(tmp_path):
     last = curves[curves["lambda"] == 1.0].reset_index(drop=True)
     assert np.allclose(last["F_x"], reaction["F_x"], rtol=1e-9, atol=1e-15)
     assert r.summary["members"]["pile"]["split"] == split
+    # The stations at every step: the last step's are the final ones.
+    path = r.member_steps("pile")
+    final = path[path["lambda"] == 1.0].drop(columns="lambda").reset_index(drop=True)
+    assert np.allclose(final["M_y"], stations["M_y"], rtol=1e-9, atol=1e-15)
+    assert len(path) == 2 * len(stations)
+    # At half the load, shaft and base balance half of it.
+    assert abs(curves[curves["lambda"] == 0.5]["F_x"].sum() + 0.25) < 1e-9
     with pytest.raises(axijoint.InputError, match="no member 'footing'"):
         r.reaction("footing")

@@ -285,6 +285,19 @@ class Result:
         `phi_z`; conventions in docs/outputs.md)."""
         return {m["body"]: _stations(m) for m in self.solution.get("members", [])}
 
+    def member_steps(self, body: str):
+        """Member `body`'s stations (as `members`) at every converged load
+        step, a `lambda` column first; `None` for a run without a load path."""
+        import pandas as pd
+
+        steps = ((self.solution.get("extra") or {}).get("load_path") or {}).get("steps") or []
+        frames = []
+        for s in steps:
+            frame = _stations(self._member(body, s["observed"].get("members", [])))
+            frame.insert(0, "lambda", s["lambda"])
+            frames.append(frame)
+        return pd.concat(frames, ignore_index=True) if frames else None
+
     def reaction(self, body: str):
         """The surroundings' reaction on member `body`: one row per shaft
         segment (`part` = "shaft", per unit length and totals), then the
