@@ -169,6 +169,54 @@ fn gmsh_failures_exit_4() {
     assert_status(&run, 4, &["cylinder.geo", "could not be started"]);
 }
 
+/// 4 as well: gmsh stopped at its CPU time bound (a mesh size 125 times
+/// too small) or at its memory bound, in bounded time, the message naming
+/// the bound, its variable and the parameters.
+#[test]
+fn gmsh_runs_under_a_time_and_a_memory_bound() {
+    let bounded = |var: &str, value: &str, size: &str| {
+        let start = std::time::Instant::now();
+        let out = Command::new(env!("CARGO_BIN_EXE_axijoint"))
+            .args([
+                "mesh",
+                geo("pile_soil.geo").to_str().unwrap(),
+                "--no-cache",
+                "--set",
+            ])
+            .arg(format!("size={size}"))
+            .env(var, value)
+            .output()
+            .expect("axijoint runs");
+        (out, start.elapsed().as_secs_f64())
+    };
+    let (run, seconds) = bounded("AXIJOINT_GMSH_SECONDS", "2", "0.002");
+    assert_status(
+        &run,
+        4,
+        &[
+            "pile_soil.geo",
+            "bound of 2 s of CPU time",
+            "AXIJOINT_GMSH_SECONDS",
+            "size = 0.002",
+        ],
+    );
+    assert!(seconds < 30.0, "{seconds} s");
+    let (run, seconds) = bounded("AXIJOINT_GMSH_MEMORY", "300M", "0.005");
+    assert_status(
+        &run,
+        4,
+        &[
+            "pile_soil.geo",
+            "memory bound of 300 MiB",
+            "AXIJOINT_GMSH_MEMORY",
+            "size = 0.005",
+        ],
+    );
+    assert!(seconds < 60.0, "{seconds} s");
+    let (run, _) = bounded("AXIJOINT_GMSH_MEMORY", "lots", "0.25");
+    assert_status(&run, 4, &["AXIJOINT_GMSH_MEMORY=lots", "K, M or G"]);
+}
+
 /// 5: the output folder cannot be made (its parent is a regular file); an
 /// input that exists but cannot be read (the scene path is a folder).
 /// (A read-only folder would not do: the tests may run as root.)

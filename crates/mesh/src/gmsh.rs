@@ -14,16 +14,79 @@ pub fn gmsh_program() -> PathBuf {
         .unwrap_or_else(|| PathBuf::from("gmsh"))
 }
 
+/// The environment variable bounding gmsh's CPU time, in seconds.
+pub const GMSH_SECONDS_ENV: &str = "AXIJOINT_GMSH_SECONDS";
+/// The environment variable bounding gmsh's memory (address space), in
+/// bytes (suffix `K`, `M` or `G`: KiB, MiB, GiB).
+pub const GMSH_MEMORY_ENV: &str = "AXIJOINT_GMSH_MEMORY";
+/// gmsh's CPU time bound unless [`GMSH_SECONDS_ENV`] says otherwise: a 2D
+/// mesh of a million elements takes about a minute.
+pub const GMSH_SECONDS: u64 = 600;
+
+/// The bounds gmsh runs under: CPU seconds and address space (bytes).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct GmshBounds {
+    /// CPU seconds.
+    pub seconds: u64,
+    /// Address space, bytes (0: none).
+    pub memory: u64,
+}
+
+impl GmshBounds {
+    /// [`GMSH_SECONDS_ENV`] (default [`GMSH_SECONDS`]) and
+    /// [`GMSH_MEMORY_ENV`] (default: 3/4 of the machine's memory); a value
+    /// that is not a number is refused, naming the variable.
+    pub fn from_env() -> Result<GmshBounds, String> {
+        let var = |name: &str| std::env::var(name).ok().filter(|v| !v.trim().is_empty());
+        let seconds = match var(GMSH_SECONDS_ENV) {
+            Some(v) => v
+                .trim()
+                .parse::<u64>()
+                .ok()
+                .filter(|&s| s > 0)
+                .ok_or_else(|| format!("{GMSH_SECONDS_ENV}={v}: give whole seconds > 0"))?,
+            None => GMSH_SECONDS,
+        };
+        let memory = match var(GMSH_MEMORY_ENV) {
+            Some(v) => crate::parse_bytes(v.trim()).ok_or_else(|| {
+                format!("{GMSH_MEMORY_ENV}={v}: give bytes, or a number with K, M or G (e.g. 4G)")
+            })?,
+            None => physical_memory() / 4 * 3,
+        };
+        Ok(GmshBounds { seconds, memory })
+    }
+}
+
+/// The machine's memory in bytes (0 when unknown).
+fn physical_memory() -> u64 {
+    #[cfg(unix)]
+    {
+        // SAFETY: sysconf has no preconditions.
+        let (pages, size) = unsafe {
+            (
+                libc::sysconf(libc::_SC_PHYS_PAGES),
+                libc::sysconf(libc::_SC_PAGESIZE),
+            )
+        };
+        if pages > 0 && size > 0 {
+            return pages as u64 * size as u64;
+        }
+    }
+    0
+}
+
 /// Makes the child die with this process (Linux: `PR_SET_PDEATHSIG`): a
 /// killed run must not leave gmsh meshing, and holding gigabytes, as an
 /// orphan. The signal follows the thread that spawns the child, which
-/// waits for it in [`mesh_geo`].
+/// waits for it in [`mesh_geo`]. The child runs under `bounds`
+/// (`RLIMIT_CPU`, `RLIMIT_AS`): a mesh parameter off by orders of
+/// magnitude ends in a message, not in a machine out of memory.
 #[cfg(target_os = "linux")]
-fn dies_with_this_process(cmd: &mut Command) {
+fn dies_with_this_process(cmd: &mut Command, bounds: GmshBounds) {
     use std::os::unix::process::CommandExt;
     let parent = std::process::id();
     // SAFETY: the closure runs in the forked child before exec and calls
-    // only async-signal-safe functions (prctl, getppid).
+    // only async-signal-safe functions (prctl, getppid, setrlimit).
     unsafe {
         cmd.pre_exec(move || {
             if libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGKILL) != 0 {
@@ -33,13 +96,51 @@ fn dies_with_this_process(cmd: &mut Command) {
             if libc::getppid() as u32 != parent {
                 return Err(std::io::Error::other("the parent process is gone"));
             }
+            let cpu = libc::rlimit {
+                rlim_cur: bounds.seconds as libc::rlim_t,
+                rlim_max: bounds.seconds as libc::rlim_t,
+            };
+            libc::setrlimit(libc::RLIMIT_CPU, &cpu);
+            if bounds.memory > 0 {
+                let mem = libc::rlimit {
+                    rlim_cur: bounds.memory as libc::rlim_t,
+                    rlim_max: bounds.memory as libc::rlim_t,
+                };
+                libc::setrlimit(libc::RLIMIT_AS, &mem);
+            }
             Ok(())
         });
     }
 }
 
 #[cfg(not(target_os = "linux"))]
-fn dies_with_this_process(_cmd: &mut Command) {}
+fn dies_with_this_process(_cmd: &mut Command, _bounds: GmshBounds) {}
+
+/// Why gmsh stopped at a bound, from how it ended: killed at its CPU
+/// bound (SIGKILL or SIGXCPU), or out of memory (`std::bad_alloc`, or a
+/// library it could not map). `None` when it ended otherwise.
+fn bound_hit(status: &std::process::ExitStatus, stderr: &str, bounds: GmshBounds) -> Option<String> {
+    #[cfg(unix)]
+    {
+        use std::os::unix::process::ExitStatusExt;
+        if matches!(status.signal(), Some(libc::SIGKILL | libc::SIGXCPU)) {
+            return Some(format!(
+                "gmsh stopped at its bound of {} s of CPU time (${GMSH_SECONDS_ENV})",
+                bounds.seconds
+            ));
+        }
+    }
+    let out_of_memory = stderr.contains("bad_alloc")
+        || stderr.contains("failed to map segment")
+        || stderr.contains("Cannot allocate memory")
+        || stderr.contains("out of memory");
+    (bounds.memory > 0 && !status.success() && out_of_memory).then(|| {
+        format!(
+            "gmsh ran out of its memory bound of {} MiB (${GMSH_MEMORY_ENV})",
+            bounds.memory >> 20
+        )
+    })
+}
 
 /// Meshes `geo` in 2D with gmsh into `msh` (MSH 4.1 ASCII), passing each
 /// `(name, value)` as `-setnumber name value`.
@@ -58,19 +159,7 @@ pub fn mesh_geo(geo: &Path, parameters: &[(String, f64)], msh: &Path) -> Result<
     for (name, value) in parameters {
         cmd.arg("-setnumber").arg(name).arg(format!("{value:?}"));
     }
-    dies_with_this_process(&mut cmd);
-    let out = cmd.output().map_err(|e| match e.kind() {
-        std::io::ErrorKind::NotFound => MeshError::GmshMissing {
-            path: geo.to_path_buf(),
-        },
-        // gmsh is there but could not be started (not executable, ...): a
-        // gmsh failure, not one of the input file.
-        _ => MeshError::GmshFailed {
-            path: geo.to_path_buf(),
-            status: format!("{} could not be started", gmsh_program().display()),
-            output: e.to_string(),
-        },
-    })?;
+    let out = run_bounded(cmd, geo, parameters)?;
     let stderr = String::from_utf8_lossy(&out.stderr);
     let stdout = String::from_utf8_lossy(&out.stdout);
     let errors: Vec<&str> = stderr
@@ -91,6 +180,52 @@ pub fn mesh_geo(geo: &Path, parameters: &[(String, f64)], msh: &Path) -> Result<
         });
     }
     Ok(())
+}
+
+/// Runs the gmsh command `cmd` on `geo` (with `parameters` among its
+/// arguments) under [`GmshBounds::from_env`], dying with this process;
+/// its output when it ran to its end (the caller reads its status and
+/// errors), an error when it could not start or stopped at a bound.
+pub fn run_bounded(
+    mut cmd: Command,
+    geo: &Path,
+    parameters: &[(String, f64)],
+) -> Result<std::process::Output, MeshError> {
+    let bounds = GmshBounds::from_env().map_err(|message| MeshError::GmshFailed {
+        path: geo.to_path_buf(),
+        status: "not started".into(),
+        output: message,
+    })?;
+    dies_with_this_process(&mut cmd, bounds);
+    let out = cmd.output().map_err(|e| match e.kind() {
+        std::io::ErrorKind::NotFound => MeshError::GmshMissing {
+            path: geo.to_path_buf(),
+        },
+        // gmsh is there but could not be started (not executable, ...): a
+        // gmsh failure, not one of the input file.
+        _ => MeshError::GmshFailed {
+            path: geo.to_path_buf(),
+            status: format!("{} could not be started", gmsh_program().display()),
+            output: e.to_string(),
+        },
+    })?;
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    if let Some(bound) = bound_hit(&out.status, &stderr, bounds) {
+        let given: Vec<String> = parameters.iter().map(|(n, v)| format!("{n} = {v}")).collect();
+        let given = if given.is_empty() {
+            "its own defaults".to_string()
+        } else {
+            given.join(", ")
+        };
+        return Err(MeshError::GmshFailed {
+            path: geo.to_path_buf(),
+            status: out.status.to_string(),
+            output: format!(
+                "{bound}, meshing with {given}: a mesh parameter off by orders of magnitude (a units slip?) makes gmsh mesh without end; raise the bound only for a mesh that needs it"
+            ),
+        });
+    }
+    Ok(out)
 }
 
 /// Where [`load_with`] took a mesh from.

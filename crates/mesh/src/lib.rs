@@ -50,3 +50,21 @@ pub use msh::{parse_msh, read_msh, write_msh41, MshFile};
 pub use pipeline::prepare;
 pub use summary::Summary;
 pub use validate::{check_curve_edges, validate, CellEdges, Validation};
+
+/// A byte count: a number of bytes, or a number with the suffix `K`, `M` or
+/// `G` (KiB, MiB, GiB; `1.5G`); `None` for anything else.
+pub fn parse_bytes(v: &str) -> Option<u64> {
+    let (num, unit) = match v.char_indices().last()? {
+        (i, c) if c.is_ascii_alphabetic() => (&v[..i], c.to_ascii_uppercase()),
+        _ => (v, 'B'),
+    };
+    let shift = match unit {
+        'B' => 0,
+        'K' => 10,
+        'M' => 20,
+        'G' => 30,
+        _ => return None,
+    };
+    let x: f64 = num.trim().parse().ok()?;
+    (x >= 0.0 && x.is_finite()).then(|| (x * (1u64 << shift) as f64) as u64)
+}

@@ -116,15 +116,7 @@ pub fn mesh_with_background(
         status,
         output,
     };
-    let out = cmd.output().map_err(|e| match e.kind() {
-        std::io::ErrorKind::NotFound => MeshError::GmshMissing {
-            path: geo.to_path_buf(),
-        },
-        _ => failed(
-            format!("{} could not be started", gmsh_program().display()),
-            e.to_string(),
-        ),
-    })?;
+    let out = axijoint_mesh::gmsh::run_bounded(cmd, geo, parameters)?;
     let text = format!(
         "{}{}",
         String::from_utf8_lossy(&out.stdout),

@@ -19,29 +19,13 @@ pub const FACTOR_MEMORY_ENV: &str = "AXIJOINT_FACTOR_MEMORY";
 /// The byte budget of [`FACTOR_MEMORY_ENV`].
 pub fn factor_memory_budget() -> Result<u64, SolverError> {
     match std::env::var(FACTOR_MEMORY_ENV) {
-        Ok(v) if !v.trim().is_empty() => parse_bytes(v.trim()).ok_or_else(|| {
+        Ok(v) if !v.trim().is_empty() => axijoint_mesh::parse_bytes(v.trim()).ok_or_else(|| {
             SolverError::Solve(crate::linear::SolveError::Input(format!(
                 "{FACTOR_MEMORY_ENV}={v}: give bytes, or a number with K, M or G (e.g. 4G)"
             )))
         }),
         _ => Ok(mem_available().map_or(u64::MAX, |b| b / 2)),
     }
-}
-
-fn parse_bytes(v: &str) -> Option<u64> {
-    let (num, unit) = match v.char_indices().last()? {
-        (i, c) if c.is_ascii_alphabetic() => (&v[..i], c.to_ascii_uppercase()),
-        _ => (v, 'B'),
-    };
-    let shift = match unit {
-        'B' => 0,
-        'K' => 10,
-        'M' => 20,
-        'G' => 30,
-        _ => return None,
-    };
-    let x: f64 = num.trim().parse().ok()?;
-    (x >= 0.0 && x.is_finite()).then(|| (x * (1u64 << shift) as f64) as u64)
 }
 
 /// `MemAvailable` of `/proc/meminfo`, in bytes.
