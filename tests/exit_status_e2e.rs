@@ -383,3 +383,31 @@ fn a_closed_or_full_stdout_does_not_stop_the_run() {
     assert_eq!(full.status.code(), Some(0), "{}", text(&full).1);
     assert_eq!(summary["complete"], json!(true), "{summary}");
 }
+
+/// A killed run's leftovers beside the output (the comparison's folder,
+/// a partial solution folder) and in the temporary folder go with the next
+/// run; a live process's stay.
+#[test]
+fn a_run_removes_the_leftovers_of_killed_runs() {
+    let dir = tempfile::tempdir().unwrap();
+    // A process id above the kernel's largest is never alive.
+    let dead = 4_194_305 + 11;
+    let leftovers = [
+        dir.path().join(format!(".without_joints-{dead}-x")),
+        dir.path().join(format!(".out.partial-{dead}")),
+        std::env::temp_dir().join(format!("axijoint-{dead}-y")),
+    ];
+    let live = dir
+        .path()
+        .join(format!(".without_joints-{}-z", std::process::id()));
+    for d in leftovers.iter().chain([&live]) {
+        std::fs::create_dir_all(d.join("inner")).unwrap();
+    }
+    let path = write_scene(dir.path(), "p", &repo_scene("pile_footing_bonded.json"));
+    let run = solve(&path, &dir.path().join("out"), &[]);
+    assert_eq!(run.status.code(), Some(0), "{}", text(&run).1);
+    for d in &leftovers {
+        assert!(!d.exists(), "{} is left", d.display());
+    }
+    assert!(live.exists());
+}

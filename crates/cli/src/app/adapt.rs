@@ -98,7 +98,7 @@ pub fn solve_adaptive(
         "mesh.adapt: its target is on the cuts' profiles; the scene has no cuts"
     );
     let params = scene.gmsh_parameters();
-    let tmp = tempfile::tempdir().context("creating a temporary folder")?;
+    let tmp = super::stale::tempdir().context("creating a temporary folder")?;
     let mut current = scene.clone();
     let mut cycles: Vec<Cycle> = Vec::new();
     let mut last_view = None;

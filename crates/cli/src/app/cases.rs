@@ -66,7 +66,7 @@ pub struct CaseEntry {
 pub fn run_cases(path: &Path, scene: &Scene, options: &Options) -> Result<()> {
     let out = &options.output;
     prepare(out)?;
-    let tmp = tempfile::tempdir().context("creating a temporary folder")?;
+    let tmp = super::stale::tempdir().context("creating a temporary folder")?;
     let msh = solved_msh(scene, tmp.path());
     let cases = solve_cases(scene, Some(&msh), |_| {})?;
     let mut outcomes: Vec<(String, PathBuf, Result<()>)> = Vec::new();

@@ -7,6 +7,7 @@
 //! adapt.rs    mesh.adapt: solve, estimate, re-mesh, until the target
 //! report.rs   every output of a solution folder and summary.json
 //! cases.rs    load cases: one folder per case and cases.json
+//! stale.rs    the leftovers of killed runs (pid-tagged temporary folders) removed
 //! mod.rs      run: the scene or its cases, the comparison without joints, the report
 //! ```
 
@@ -15,6 +16,7 @@ pub mod cases;
 pub mod console;
 pub mod report;
 pub mod solve;
+mod stale;
 
 use anyhow::{Context, Result};
 use axijoint_solver::results::{read_solution, SolutionHeader};
@@ -44,6 +46,7 @@ pub struct Options {
 /// comparison without joints and the report as `options` ask. Fails, after
 /// writing every output, when the whole load was not reached.
 pub fn run(path: &Path, scene: &Scene, options: &Options) -> Result<()> {
+    stale::clean_for(&options.output);
     if !scene.load_cases.is_empty() {
         return cases::run_cases(path, scene, options);
     }
@@ -114,7 +117,7 @@ fn with_comparison(
     };
     std::fs::create_dir_all(&parent).with_context(|| format!("creating {}", parent.display()))?;
     let side = tempfile::Builder::new()
-        .prefix(".without_joints")
+        .prefix(&stale::tagged(stale::WITHOUT_JOINTS_PREFIX))
         .tempdir_in(&parent)
         .with_context(|| format!("creating a folder in {}", parent.display()))?;
     let (solved, comparison) = std::thread::scope(|s| {

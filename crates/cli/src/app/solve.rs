@@ -49,7 +49,7 @@ pub fn solve_to(scene: &Scene, out: &Path, quiet: bool) -> Result<SolutionHeader
 /// factors are made: the rest of the solve keeps about one core busy). A
 /// one-shot run that stops writes its last iterate, marked, and fails.
 pub fn solve_to_then(scene: &Scene, out: &Path, quiet: bool, iterating: &dyn Fn()) -> Result<SolutionHeader> {
-    let tmp = tempfile::tempdir().context("creating a temporary folder")?;
+    let tmp = super::stale::tempdir().context("creating a temporary folder")?;
     let msh = solved_msh(scene, tmp.path());
     let bar = progress_bar(quiet);
     let progress = |r: &_| {
