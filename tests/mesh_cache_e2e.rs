@@ -154,3 +154,42 @@ fn a_damaged_entry_is_not_used() {
     s.solve("third", &["--set", "size=0.4"]);
     assert_eq!(s.runs(), 2);
 }
+
+/// `axijoint run` of a scene with joints meshes once for the scene and its
+/// comparison without joints when the cache cannot help: under
+/// `--no-cache`, and with a cache folder that cannot be written (a regular
+/// file in its place), which is said once on stderr.
+#[test]
+fn a_run_and_its_comparison_mesh_once_without_a_cache() {
+    let s = Setup::new();
+    let scene = geo("pile_footing.json");
+    let run = |name: &str, extra: &[&str], cache: &Path| {
+        let out = s.dir.path().join(name);
+        let mut args = vec!["run", scene.to_str().unwrap(), "-o", out.to_str().unwrap(), "-q"];
+        args.extend_from_slice(&["--set", "size=0.5"]);
+        args.extend_from_slice(extra);
+        let done = Command::new(env!("CARGO_BIN_EXE_axijoint"))
+            .args(&args)
+            .env("AXIJOINT_GMSH", &s.gmsh)
+            .env("AXIJOINT_CACHE", cache)
+            .output()
+            .expect("axijoint runs");
+        let (stdout, stderr) = text(&done);
+        assert!(done.status.success(), "{stdout}\n{stderr}");
+        assert!(out.join("without_joints/solution.json").is_file());
+        stderr
+    };
+    let stderr = run("uncached", &["--no-cache"], &s.cache());
+    assert_eq!(s.runs(), 1, "gmsh ran for the comparison too");
+    assert!(!stderr.contains("cannot be written"), "{stderr}");
+
+    let blocked = s.dir.path().join("not_a_folder");
+    std::fs::write(&blocked, "a file where the cache should be").unwrap();
+    let stderr = run("unwritable", &[], &blocked);
+    assert_eq!(s.runs(), 2, "gmsh ran for the comparison too");
+    assert_eq!(stderr.matches("cannot be written").count(), 1, "{stderr}");
+    assert!(
+        stderr.contains("not_a_folder") && stderr.contains("AXIJOINT_CACHE"),
+        "{stderr}"
+    );
+}

@@ -42,7 +42,7 @@ use std::process::ExitCode;
 struct Cli {
     #[command(subcommand)]
     command: Command,
-    /// Neither read nor write the mesh cache: gmsh meshes every .geo
+    /// Neither read nor write the mesh cache: gmsh meshes every .geo once a run
     /// (cache: $AXIJOINT_CACHE, else $XDG_CACHE_HOME/axijoint, else ~/.cache/axijoint).
     #[arg(long, global = true)]
     no_cache: bool,

@@ -237,6 +237,44 @@ pub enum MeshSource {
     Gmsh,
     /// The cache held gmsh's mesh of the same inputs.
     Cache,
+    /// This process meshed the same inputs already and has no usable
+    /// cache folder (a run's comparison without joints reuses its scene's
+    /// mesh under `--no-cache` or with a cache it cannot write).
+    Memory,
+}
+
+/// gmsh's outputs this process made, by cache key: the last few.
+static MEMO: std::sync::Mutex<Vec<(String, std::sync::Arc<Vec<u8>>)>> = std::sync::Mutex::new(Vec::new());
+/// Meshes [`MEMO`] keeps.
+const MEMO_LEN: usize = 4;
+
+fn memo_get(key: &str) -> Option<std::sync::Arc<Vec<u8>>> {
+    let memo = MEMO.lock().unwrap_or_else(|p| p.into_inner());
+    memo.iter().find(|(k, _)| k == key).map(|(_, b)| b.clone())
+}
+
+fn memo_put(key: String, bytes: Vec<u8>) {
+    let mut memo = MEMO.lock().unwrap_or_else(|p| p.into_inner());
+    memo.retain(|(k, _)| *k != key);
+    memo.push((key, std::sync::Arc::new(bytes)));
+    let extra = memo.len().saturating_sub(MEMO_LEN);
+    memo.drain(..extra);
+}
+
+/// Whether a cache folder failed to be written in this process (its
+/// meshes are then kept in [`MEMO`]).
+static UNWRITABLE: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Says once per process that the cache folder cannot be written.
+fn cache_unwritable(dir: &Path, e: &std::io::Error) {
+    static SAID: std::sync::Once = std::sync::Once::new();
+    UNWRITABLE.store(true, std::sync::atomic::Ordering::Relaxed);
+    SAID.call_once(|| {
+        eprintln!(
+            "warning: the mesh cache {} cannot be written ({e}): meshes are not kept for later runs (set AXIJOINT_CACHE to a writable folder, or --no-cache)",
+            dir.display()
+        );
+    });
 }
 
 /// Reads a `.msh`, or meshes a `.geo` with gmsh (in a temporary folder, or
@@ -249,7 +287,10 @@ pub fn load(path: &Path, parameters: &[(String, f64)], keep_msh: Option<&Path>) 
 /// [`load`] with the cache folder `cache` (`None`: no cache), telling
 /// where the mesh came from. A `.geo` whose key ([`cache::key`]) has a
 /// whole entry is read from it; else gmsh runs and its `.msh` is stored (a
-/// cache that cannot be written is skipped).
+/// cache that cannot be written is skipped, and said so once). Without a
+/// cache folder, or with one that could not be written, the last
+/// [`MEMO_LEN`] meshes of this process are kept in memory and not meshed
+/// again.
 pub fn load_with(
     path: &Path,
     parameters: &[(String, f64)],
@@ -267,10 +308,18 @@ pub fn load_with(
         }),
         None => Ok(()),
     };
-    let key = cache.and_then(|dir| Some((dir, cache::key(path, parameters, &gmsh_program())?)));
+    let memo_key = cache::key(path, parameters, &gmsh_program());
+    let key = cache.and_then(|dir| Some((dir, memo_key.clone()?)));
+    let label = meshed_label(path);
+    // Without a usable cache folder, this process's own meshes.
+    let use_memo = || cache.is_none() || UNWRITABLE.load(std::sync::atomic::Ordering::Relaxed);
+    if let Some(bytes) = memo_key.as_deref().filter(|_| use_memo()).and_then(memo_get) {
+        let mesh = parse_msh(&bytes, &label)?.to_mesh(&label)?;
+        keep(&bytes)?;
+        return Ok((mesh, MeshSource::Memory));
+    }
     if let Some((dir, key)) = &key {
         if let Some(bytes) = cache::get(dir, key) {
-            let label = meshed_label(path);
             let mesh = parse_msh(&bytes, &label)?.to_mesh(&label)?;
             keep(&bytes)?;
             return Ok((mesh, MeshSource::Cache));
@@ -291,8 +340,13 @@ pub fn load_with(
         .map_err(|e| rename_path(e, &tmp, path))?;
     keep(&bytes)?;
     if let Some((dir, key)) = &key {
-        // Best effort: a read-only or full cache only loses the reuse.
-        let _ = cache::put(dir, key, &bytes);
+        // A read-only or full cache only loses the reuse: said once.
+        if let Err(e) = cache::put(dir, key, &bytes) {
+            cache_unwritable(dir, &e);
+        }
+    }
+    if let Some(key) = memo_key.filter(|_| use_memo()) {
+        memo_put(key, bytes);
     }
     Ok((mesh, MeshSource::Gmsh))
 }
