@@ -125,6 +125,18 @@ fn scene_p_jump_and_report_regeneration() {
     );
 
     let bonded = out.join("without_joints");
+    // The comparison has its own summary.json: its numbers, no report.
+    let own: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(bonded.join("summary.json")).unwrap()).unwrap();
+    assert!(
+        own["title"].as_str().unwrap().ends_with("(without joints)"),
+        "{own}"
+    );
+    assert!(own["max_displacement"].as_f64().unwrap() > 0.0);
+    assert!(own["estimated_energy_error"].is_null());
+    for f in own["files"].as_array().unwrap() {
+        assert!(bonded.join(f.as_str().unwrap()).is_file(), "{f}");
+    }
     let report = axijoint(&["report", bonded.to_str().unwrap()]);
     assert!(report.status.success(), "{}", text(&report).1);
     let b = bonded.join("cut_a-a_theta180.csv");

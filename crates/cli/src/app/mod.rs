@@ -70,6 +70,9 @@ pub fn run(path: &Path, scene: &Scene, options: &Options) -> Result<()> {
     if let Some(side) = comparison {
         let dir = out.join(WITHOUT_JOINTS);
         std::fs::rename(side.path().join(WITHOUT_JOINTS), &dir)?;
+        if options.report {
+            report::write_comparison_summary(&dir)?;
+        }
         if options.print {
             crate::say!("  comparison without joints: {}", dir.display());
         }

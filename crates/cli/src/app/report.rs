@@ -30,8 +30,9 @@ pub struct Summary {
     pub dofs_per_harmonic: usize,
     /// Why a run stopped.
     pub error: Option<String>,
-    /// Estimated error in the energy norm.
-    pub estimated_energy_error: f64,
+    /// Estimated error in the energy norm (`null` for a folder without a
+    /// report: the comparison without joints).
+    pub estimated_energy_error: Option<f64>,
     /// Estimated error of each cut profile, relative to its max |stress|.
     pub estimated_error: PerProfile,
     /// The files of the folder.
@@ -137,6 +138,23 @@ pub fn write_outputs(dir: &Path, compare: &[PathBuf]) -> Result<Summary> {
     }
     let label = (!runs.is_empty()).then(|| labels[0].as_str());
     let written = write_report(dir, &saved, companion.as_ref(), label, &runs)?;
+    summarize(dir, &saved, Some(&written))
+}
+
+/// `summary.json` of the comparison without joints `dir` (no report of
+/// its own: its solution files and its numbers).
+pub fn write_comparison_summary(dir: &Path) -> Result<Summary> {
+    let saved = read_solution(dir)?;
+    summarize(dir, &saved, None)
+}
+
+/// Writes and returns `summary.json` of the solution `saved` in `dir` and
+/// of its report `written` (`None`: no report).
+fn summarize(
+    dir: &Path,
+    saved: &axijoint_solver::results::SavedSolution,
+    written: Option<&axijoint_report::Written>,
+) -> Result<Summary> {
     let h = &saved.header;
     let joints = read_joint_field(dir)?;
     let mut joint_summary = BTreeMap::new();
@@ -166,7 +184,12 @@ pub fn write_outputs(dir: &Path, compare: &[PathBuf]) -> Result<Summary> {
     if let Some(i) = &h.initial {
         files.push(i.displacement.file.clone());
     }
-    files.extend(written.files.iter().map(|p| p.display().to_string()));
+    files.extend(
+        written
+            .iter()
+            .flat_map(|w| &w.files)
+            .map(|p| p.display().to_string()),
+    );
     for f in ["adapt.csv", "adapt_size.pos"] {
         if record.adapt.is_some() && dir.join(f).is_file() {
             files.push(f.into());
@@ -180,8 +203,8 @@ pub fn write_outputs(dir: &Path, compare: &[PathBuf]) -> Result<Summary> {
         converged: record.converged(),
         dofs_per_harmonic: h.dofs_per_harmonic,
         error: record.error.clone(),
-        estimated_energy_error: written.energy_error,
-        estimated_error: estimated_error(&written.estimated_error),
+        estimated_energy_error: written.map(|w| w.energy_error),
+        estimated_error: estimated_error(written.map_or(&[], |w| &w.estimated_error)),
         files,
         harmonic_check: record.harmonic_check.clone().flatten(),
         harmonics: h.harmonics.clone(),
@@ -288,14 +311,17 @@ pub fn estimate_lines(summary: &Summary) -> Vec<String> {
             }
         }
     }
+    let energy = summary.estimated_energy_error.map_or_else(
+        || "no estimate".to_string(),
+        |e| format!("{:.2} % in the energy norm", 100.0 * e),
+    );
     let mut lines = vec![format!(
-        "  estimated error: {}{:.2} % in the energy norm",
+        "  estimated error: {}{energy}",
         if parts.is_empty() {
             String::new()
         } else {
             format!("{} (of each profile's max |stress|); ", parts.join(", "))
         },
-        100.0 * summary.estimated_energy_error
     )];
     lines.extend(warnings);
     lines
