@@ -217,6 +217,53 @@ fn gmsh_runs_under_a_time_and_a_memory_bound() {
     assert_status(&run, 4, &["AXIJOINT_GMSH_MEMORY=lots", "K, M or G"]);
 }
 
+/// 1, before the work: more than 512 harmonics (before gmsh), and factors
+/// beyond the memory a run may use (`AXIJOINT_MEMORY`, before any
+/// factorization); `--force` goes on past the first.
+#[test]
+fn cost_limits_are_refused_before_the_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = geo("pile_soil.json");
+    let out = dir.path().join("out");
+    let run = |extra: &[&str], memory: &str| {
+        let start = std::time::Instant::now();
+        let done = Command::new(env!("CARGO_BIN_EXE_axijoint"))
+            .args([
+                "solve",
+                scene.to_str().unwrap(),
+                "-q",
+                "-o",
+                out.to_str().unwrap(),
+            ])
+            .args(extra)
+            .env("AXIJOINT_MEMORY", memory)
+            .env("AXIJOINT_CACHE", test_cache())
+            .output()
+            .expect("axijoint runs");
+        (done, start.elapsed().as_secs_f64())
+    };
+    let (done, seconds) = run(&["--harmonics", "600"], "");
+    assert_status(&done, 1, &["pile_soil.json", "harmonics: 600", "512", "--force"]);
+    assert!(seconds < 5.0 && !out.exists(), "{seconds} s");
+    // 9 harmonics of the shipped mesh within 1 MiB: refused before any
+    // factorization, naming the estimate.
+    let (done, _) = run(&["--harmonics", "8"], "1M");
+    assert_status(
+        &done,
+        1,
+        &[
+            "pile_soil.json",
+            "9 harmonics",
+            "GiB",
+            "AXIJOINT_MEMORY",
+            "--force",
+        ],
+    );
+    assert!(!out.exists());
+    let (done, _) = run(&["--harmonics", "8", "--force"], "1M");
+    assert_eq!(done.status.code(), Some(0), "{}", text(&done).1);
+}
+
 /// 5: the output folder cannot be made (its parent is a regular file); an
 /// input that exists but cannot be read (the scene path is a folder).
 /// (A read-only folder would not do: the tests may run as root.)

@@ -40,11 +40,16 @@ pub struct CommonArgs {
     /// No progress display.
     #[arg(short, long)]
     pub quiet: bool,
+    /// Go on past the cost limits: more than 512 harmonics, factors beyond
+    /// the memory available.
+    #[arg(long)]
+    pub force: bool,
 }
 
 /// Reads the scene and applies the command-line overrides.
 pub fn load_scene(path: &Path, common: &CommonArgs) -> Result<Scene> {
     let mut scene = Scene::from_path(path)?;
+    scene.force = common.force;
     for (name, value) in crate::mesh_cmd::parse_parameters(&common.set)? {
         scene.mesh.parameters.insert(name, value);
     }

@@ -673,6 +673,19 @@ fn settings_values() {
             "increasing",
         ),
         (r#""spacing": 0.05"#, r#""spacing": 0"#, "cuts[0].spacing", "> 0"),
+        // A spacing in the wrong unit: millions of samples, refused.
+        (
+            r#""spacing": 0.05"#,
+            r#""spacing": 5e-8"#,
+            "cuts[0].spacing",
+            "at most 100000",
+        ),
+        (
+            r#""to": [3.0, 0.75]"#,
+            r#""to": [3000000.0, 0.75]"#,
+            "cuts[0].spacing",
+            "samples",
+        ),
         (r#""name": "a-a""#, r#""name": "a/a""#, "cuts[0].name", "a/a"),
         (
             r#""to": [3.0, 0.75]"#,

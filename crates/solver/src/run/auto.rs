@@ -120,6 +120,7 @@ pub fn solve_scene_auto(
         sc.harmonics = next.into();
         let new: Vec<u32> = (m + 1..=next).collect();
         loads = assemble_loads(&sc, &problem.model.mesh, next).map_err(SolverError::from)?;
+        super::factors::check_cost(&sc, &problem.model, next as usize + 1)?;
         let t1 = Instant::now();
         let whole_below = plan_factors(&problem.model, next as usize + 1)?;
         let model = &problem.model;

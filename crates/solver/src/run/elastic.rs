@@ -1,7 +1,7 @@
 //! The elastic run: the scene meshed and modelled, its harmonics factorized
 //! (the [`Problem`]) and its loads solved with the joints as linear springs.
 
-use super::factors::{factorize_and_solve, plan_factors, solve_harmonic, solve_loads};
+use super::factors::{check_cost, factorize_and_solve, plan_factors, solve_harmonic, solve_loads};
 use super::measures::reactions;
 use super::model::{build_model, mesh_scene};
 use super::Run;
@@ -73,6 +73,7 @@ pub(super) fn elastic(
         .filter(|h| all_factors || h.is_loaded() || (h.m == 0 && scene.has_initial_phase()))
         .map(|h| h.m)
         .collect();
+    check_cost(scene, &model, wanted.len())?;
     let t1 = Instant::now();
     let whole_below = plan_factors(&model, wanted.len())?;
     let (factors, u, factorize, solve) = if wanted.iter().all(|&m| m < whole_below) {

@@ -28,6 +28,49 @@ pub fn factor_memory_budget() -> Result<u64, SolverError> {
     }
 }
 
+/// The least memory the factors of `n` harmonics take (bytes): every
+/// harmonic's joint block (all the iteration reads) and one whole factor
+/// at a time beside them ([`FACTOR_MEMORY_ENV`] = 0).
+pub fn least_factor_memory(model: &Model, n: usize) -> u64 {
+    8 * (n as u64 * model.joint_block_len() as u64 + model.factor_len() as u64)
+}
+
+/// Environment variable: the memory a run may use, in bytes (suffix `K`,
+/// `M` or `G`); unset: the memory available when it starts.
+pub const MEMORY_ENV: &str = "AXIJOINT_MEMORY";
+
+/// Refuses, before any factorization, a run of `scene` with `n`
+/// harmonics whose least factor memory ([`least_factor_memory`]) exceeds
+/// the memory it may use ([`MEMORY_ENV`]), naming the parameters that set
+/// it; `scene.force` goes on.
+pub(super) fn check_cost(scene: &crate::scene::Scene, model: &Model, n: usize) -> Result<(), SolverError> {
+    let limit = match std::env::var(MEMORY_ENV) {
+        Ok(v) if !v.trim().is_empty() => Some(axijoint_mesh::parse_bytes(v.trim()).ok_or_else(|| {
+            SolverError::Solve(crate::linear::SolveError::Input(format!(
+                "{MEMORY_ENV}={v}: give bytes, or a number with K, M or G (e.g. 4G)"
+            )))
+        })?),
+        _ => mem_available(),
+    };
+    let (Some(available), false) = (limit, scene.force) else {
+        return Ok(());
+    };
+    let need = least_factor_memory(model, n);
+    if need <= available {
+        return Ok(());
+    }
+    let gib = |b: u64| b as f64 / (1u64 << 30) as f64;
+    Err(SolverError::Solve(crate::linear::SolveError::Input(format!(
+        "{}: the factors of {n} harmonics of {} unknowns need at least {:.1} GiB ({n} joint blocks of {:.1} MiB and one whole factor of {:.1} MiB), {:.1} GiB are available (${MEMORY_ENV}, else the machine's): lower `harmonics` (\"auto\" chooses what the answer needs) or coarsen the mesh (`mesh.parameters`); --force goes on",
+        scene.path.display(),
+        model.n_eq(),
+        gib(need),
+        8.0 * model.joint_block_len() as f64 / (1u64 << 20) as f64,
+        8.0 * model.factor_len() as f64 / (1u64 << 20) as f64,
+        gib(available)
+    ))))
+}
+
 /// `MemAvailable` of `/proc/meminfo`, in bytes.
 fn mem_available() -> Option<u64> {
     let info = std::fs::read_to_string("/proc/meminfo").ok()?;

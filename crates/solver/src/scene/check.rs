@@ -20,6 +20,13 @@ fn list<'a>(names: impl Iterator<Item = &'a str>) -> String {
     }
 }
 
+/// The most samples a cut may take (`length / spacing`): a fine cut of a
+/// 10 m pile every millimetre takes 10^4; a spacing or an end typed in the
+/// wrong unit takes millions, and hours of report.
+pub const MAX_CUT_SAMPLES: usize = 100_000;
+/// The most angles a cut may list (one CSV file each).
+pub const MAX_CUT_ANGLES: usize = 360;
+
 /// [`super::error::nearest`], owned.
 fn suggest<'a>(name: &str, known: impl IntoIterator<Item = &'a str>) -> Option<Box<str>> {
     super::error::nearest(name, known).map(Box::from)
@@ -68,6 +75,18 @@ impl Scene {
             ));
         }
         self.check_mesh_source()?;
+        if let super::Harmonics::Fixed(m) = self.harmonics {
+            if m > super::MAX_HARMONICS && !self.force {
+                return Err(self.invalid(
+                    "harmonics",
+                    format!(
+                        "{m}: above {} harmonics a run only costs time and memory ({} factorizations of the mesh); \"auto\" chooses what the answer needs, --force goes on",
+                        super::MAX_HARMONICS,
+                        m + 1
+                    ),
+                ));
+            }
+        }
         for (name, mat) in &self.materials {
             if let Err(e) = mat.elastic().validate() {
                 let field = match e {
@@ -412,6 +431,8 @@ impl Scene {
         Ok(())
     }
 
+    /// Every cut's name, ends, spacing (at most [`MAX_CUT_SAMPLES`] samples),
+    /// component and angles (at most [`MAX_CUT_ANGLES`]).
     fn check_cuts(&self) -> Result<(), SceneError> {
         let mut names = BTreeSet::new();
         for (i, cut) in self.cuts.iter().enumerate() {
@@ -445,6 +466,28 @@ impl Scene {
                 return Err(self.invalid(
                     key("spacing"),
                     format!("{} is not allowed: it must be > 0", Short(cut.spacing)),
+                ));
+            }
+            let length = (cut.to[0] - cut.from[0]).hypot(cut.to[1] - cut.from[1]);
+            let samples = length / cut.spacing;
+            if samples > MAX_CUT_SAMPLES as f64 {
+                return Err(self.invalid(
+                    key("spacing"),
+                    format!(
+                        "{} along a cut {} long gives {} samples, at most {MAX_CUT_SAMPLES}: a units slip? (a spacing in mm, a point in mm)",
+                        Short(cut.spacing),
+                        Short(length),
+                        Short(samples.ceil())
+                    ),
+                ));
+            }
+            if cut.theta_deg.len() > MAX_CUT_ANGLES {
+                return Err(self.invalid(
+                    key("theta_deg"),
+                    format!(
+                        "{} angles, at most {MAX_CUT_ANGLES} (each one is a CSV file)",
+                        cut.theta_deg.len()
+                    ),
                 ));
             }
             if cut.component_index().is_none() {

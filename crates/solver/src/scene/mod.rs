@@ -163,7 +163,17 @@ pub struct Scene {
     /// The scene file (not part of the JSON).
     #[serde(skip)]
     pub path: PathBuf,
+    /// Go on past the cost limits ([`MAX_HARMONICS`], the memory estimate
+    /// of [`crate::run::cost`]): the command line's `--force` (not part
+    /// of the JSON).
+    #[serde(skip)]
+    pub force: bool,
 }
+
+/// The highest harmonic a scene may ask for without `--force`: the
+/// answers our users need converge by M = 64 (docs/accuracy.md), a
+/// hundred times more only costs time and memory (a units slip or a typo).
+pub const MAX_HARMONICS: u32 = 512;
 
 /// A named set of loads ([`Scene::load_cases`]).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
