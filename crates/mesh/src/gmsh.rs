@@ -289,7 +289,7 @@ pub fn load(path: &Path, parameters: &[(String, f64)], keep_msh: Option<&Path>) 
 /// whole entry is read from it; else gmsh runs and its `.msh` is stored (a
 /// cache that cannot be written is skipped, and said so once). Without a
 /// cache folder, or with one that could not be written, the last
-/// [`MEMO_LEN`] meshes of this process are kept in memory and not meshed
+/// four meshes of this process are kept in memory and not meshed
 /// again.
 pub fn load_with(
     path: &Path,
