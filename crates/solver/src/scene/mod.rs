@@ -164,7 +164,7 @@ pub struct Scene {
     #[serde(skip)]
     pub path: PathBuf,
     /// Go on past the cost limits ([`MAX_HARMONICS`], the memory estimate
-    /// of [`crate::run::cost`]): the command line's `--force` (not part
+    /// of [`crate::run::least_factor_memory`]): the command line's `--force` (not part
     /// of the JSON).
     #[serde(skip)]
     pub force: bool,
