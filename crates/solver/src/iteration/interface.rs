@@ -20,12 +20,12 @@ pub(super) struct Interface {
     pub(super) point_pairs: Vec<Vec<usize>>,
     pub(super) b: Vec<DMatrix<f64>>,
     pub(super) g: Vec<DMatrix<f64>>,
-    /// Groups of (harmonic index, family) solved together: one group of
-    /// every pair (coupled), or one group per pair (solved by GMRES).
-    pub(super) groups: Vec<Vec<(usize, usize)>>,
-    /// Every (harmonic index, family), in group order.
+    /// Whether the coupled system is small enough for its dense LU
+    /// (`members x n_r <= coupled_max`): the fallback when GMRES fails.
+    pub(super) dense_allowed: bool,
+    /// Every (harmonic index, family).
     pub(super) members: Vec<(usize, usize)>,
-    /// With the groups split: `(a, a, b)` of each member at each section
-    /// (section-major), for `D_r` applied through the sections; else empty.
+    /// `(a, a, b)` of each member at each section (section-major), for
+    /// `D_r` applied through the sections.
     pub(super) phi: Vec<[f64; 3]>,
 }

@@ -293,7 +293,7 @@ pub(super) fn newton(
     progress: &mut dyn FnMut(&IterationRecord),
 ) -> Result<Converged, Box<Failure>> {
     if sweep.setup.softened() {
-        let mut form = Traction::new(*sweep, settings.coupled_max);
+        let mut form = Traction::new(*sweep, settings.coupled_max, settings.gmres_first);
         let y0 = form.start(&from);
         solve(sweep, &mut form, y0, settings, from, progress)
     } else {

@@ -38,15 +38,19 @@
 //! P^-1 = Z + Z C^T (I - D_r Z_r)^-1 D_r C Z,   Z_r = C Z C^T
 //! ```
 //!
-//! so the dense LU has order `n_r` per group: `(number of harmonics and
-//! families) x n_r <=` [`COUPLED_MAX`](super::types::COUPLED_MAX) coupled (one LU per Newton step, an
-//! eighth of the joint-node form's; no sparse factorization; per
-//! application no sweep). Above it each harmonic and family gets its own
-//! LU of `I - Dbar_mf Z_r`, and every application solves the coupled
-//! `(I - D_r Z_r) w = D_r C Z r` by GMRES right-preconditioned by those
-//! blocks, `D_r` applied through the sections point by point (no dense
-//! coupled matrix, no sweep): the blocks alone left the slow modes where
-//! D varies around the turn and stopped the pile in soil at lambda = 0.
+//! The coupled system `(I - D_r Z_r) w = D_r C Z r` is solved by GMRES
+//! right-preconditioned by the blocks, each harmonic and family with its
+//! own LU of `I - Dbar_mf Z_r`, `D_r` applied through the sections point by
+//! point (no dense coupled matrix, no sweep): the blocks alone left the
+//! slow modes where D varies around the turn and stopped the pile in soil
+//! at lambda = 0. When the whole system is small enough (`(number of
+//! harmonics and families) x n_r <=`
+//! [`COUPLED_MAX`](super::types::COUPLED_MAX)) its dense LU (one per
+//! Newton step, order `n_r` per member; no sparse factorization, per
+//! application no sweep) takes over from the first GMRES solve that does
+//! not converge, and from the start below [`GMRES_ORDER`] (where it is
+//! cheap) and for a joint stiffer than [`GMRES_STIFFNESS`] (where the
+//! inexact solves cost Newton more steps than the dense LU costs).
 
 use super::interface::Interface;
 use super::release::Tangent;
@@ -69,18 +73,38 @@ const INNER_TOLERANCE: f64 = 1e-6;
 const INNER_MAX: usize = 1000;
 const INNER_RESTART: usize = 50;
 
+/// The stiffness of a joint, as `k / k_assembled` (about `k h / E`), up to
+/// which GMRES solves the coupled system first, the dense LU only where
+/// it does not converge; above it the dense LU from the start when the
+/// system is small enough. Measured on the pile in soil (M = 8, coupled
+/// order 4590): at 10, 0.36 s of solve against 1.9 s with the dense LU; at
+/// the rigid penalty (1000), 5.7 s against 9.1 s, the same 35 Newton
+/// steps; at 1e4 the inexact solves cost Newton its convergence (past
+/// 300 s against 55 s).
+pub(super) const GMRES_STIFFNESS: f64 = 4.0 * crate::scene::RIGID_STIFFNESS;
+
+/// The order of the coupled system below which its dense LU is used from
+/// the start (it costs milliseconds there; GMRES first on the rigid
+/// torsion block stopped its stepped run at 0.898 of the load for the
+/// exact 0.909, the dense LU brackets it).
+pub(super) const GMRES_ORDER: usize = 2000;
+
 /// The families, in the order of the joint amplitudes.
 const FAMILIES: [Family; 2] = [Family::Symmetric, Family::Antisymmetric];
 
 /// The preconditioner: its fixed data and, per group, `D_r` and the LU of
-/// `I - D_r Z_r` at the current tangents.
+/// `I - D_r Z_r` at the current tangents: one group per member while GMRES
+/// solves the coupled system, one group of every member once `dense`.
 pub(super) struct BlockPreconditioner {
     fixed: Arc<Interface>,
     dr: Vec<DMatrix<f64>>,
     lu: Vec<Option<PartialPivLu<f64>>>,
-    /// The joint tangents of the last update (for the coupled `D_r` when
-    /// the groups are split).
+    /// The joint tangents of the last update (the coupled `D_r`).
     tangents: Vec<Tangent>,
+    /// The coupled system by its dense LU (from the first GMRES solve
+    /// that did not converge, for the rest of the run; only when
+    /// [`Interface::dense_allowed`]).
+    dense: bool,
 }
 
 impl Interface {
@@ -181,24 +205,15 @@ impl Interface {
         let members: Vec<(usize, usize)> = (0..setup.transfer.n_h)
             .flat_map(|h| (0..if both[h] { 2 } else { 1 }).map(move |f| (h, f)))
             .collect();
-        let split = members.len() * nr > coupled_max;
-        let groups = if split {
-            members.iter().map(|&p| vec![p]).collect()
-        } else {
-            vec![members.clone()]
-        };
-        let phi = if split {
-            (0..setup.sections().len())
-                .flat_map(|s| {
-                    members.iter().map(move |&(h, f)| {
-                        let (a, b) = setup.transfer.phi(s, h, FAMILIES[f]);
-                        [a, a, b]
-                    })
+        let dense_allowed = members.len() * nr <= coupled_max;
+        let phi = (0..setup.sections().len())
+            .flat_map(|s| {
+                members.iter().map(move |&(h, f)| {
+                    let (a, b) = setup.transfer.phi(s, h, FAMILIES[f]);
+                    [a, a, b]
                 })
-                .collect()
-        } else {
-            Vec::new()
-        };
+            })
+            .collect();
         Interface {
             z,
             zc,
@@ -207,7 +222,7 @@ impl Interface {
             point_pairs,
             b,
             g,
-            groups,
+            dense_allowed,
             members,
             phi,
         }
@@ -215,8 +230,10 @@ impl Interface {
 }
 
 impl BlockPreconditioner {
-    /// The preconditioner of `setup` (its fixed data formed at the first call).
-    pub(super) fn new(setup: &Setup, coupled_max: usize) -> Self {
+    /// The preconditioner of `setup` (its fixed data formed at the first
+    /// call); `gmres_first`: see
+    /// [`IterationSettings::gmres_first`](super::types::IterationSettings::gmres_first).
+    pub(super) fn new(setup: &Setup, coupled_max: usize, gmres_first: bool) -> Self {
         BlockPreconditioner {
             fixed: setup
                 .interface
@@ -225,6 +242,41 @@ impl BlockPreconditioner {
             dr: Vec::new(),
             lu: Vec::new(),
             tangents: Vec::new(),
+            dense: false,
+        }
+        .starting_dense(setup, gmres_first)
+    }
+
+    /// Dense from the start when the coupled system is small enough and
+    /// either smaller than [`GMRES_ORDER`] or a joint is stiffer than
+    /// [`GMRES_STIFFNESS`].
+    fn starting_dense(mut self, setup: &Setup, gmres_first: bool) -> Self {
+        let ratio = |k: f64, a: f64| if a > 0.0 { k / a } else { 1.0 };
+        let stiffest = setup
+            .model
+            .joints
+            .iter()
+            .map(|j| {
+                let (k, a) = (j.springs, j.assembled);
+                ratio(k.k_xi, a.k_xi)
+                    .max(ratio(k.k_eta, a.k_eta))
+                    .max(ratio(k.k_theta, a.k_theta))
+            })
+            .fold(1.0, f64::max);
+        let order = self.fixed.members.len() * 3 * self.fixed.pairs.len();
+        self.dense =
+            self.fixed.dense_allowed && (!gmres_first || stiffest > GMRES_STIFFNESS || order < GMRES_ORDER);
+        self
+    }
+
+    /// The groups of members factorized together: every member in one
+    /// (dense), or one each (GMRES).
+    fn groups(&self) -> Vec<Vec<(usize, usize)>> {
+        let members = &self.fixed.members;
+        if self.dense {
+            vec![members.clone()]
+        } else {
+            members.iter().map(|&m| vec![m]).collect()
         }
     }
 
@@ -297,8 +349,9 @@ impl BlockPreconditioner {
     }
 
     /// Solves `(I - D_r Z_r) w = rhs` over every member by right-
-    /// preconditioned restarted GMRES, the preconditioner the block LUs.
-    fn solve_coupled(&self, setup: &Setup, rhs: &[f64]) -> Vec<f64> {
+    /// preconditioned restarted GMRES, the preconditioner the block LUs;
+    /// whether it reached its tolerance.
+    fn solve_coupled(&self, setup: &Setup, rhs: &[f64]) -> (Vec<f64>, bool) {
         let fixed = &*self.fixed;
         let nr = 3 * fixed.pairs.len();
         let n = rhs.len();
@@ -404,19 +457,28 @@ impl BlockPreconditioner {
                 break;
             }
         }
-        w
+        let converged = norm(&r) <= 10.0 * tol && w.iter().all(|v| v.is_finite());
+        (w, converged)
     }
 
     /// Forms `D_r` (the joint tangent `A D S` on the pairs' relative
     /// displacements, coupled over each group) and factorizes
     /// `I - D_r Z_r` of every group at the joint tangents `tangents`.
     pub(super) fn update(&mut self, setup: &Setup, tangents: &[Tangent]) {
+        self.tangents = tangents.to_vec();
+        self.factorize(setup);
+    }
+
+    /// Forms `D_r` and the LUs of every group at the tangents of the last
+    /// [`BlockPreconditioner::update`].
+    fn factorize(&mut self, setup: &Setup) {
         let n_p = setup.points.len();
         let sections = setup.sections();
         let fixed = &*self.fixed;
         let nr = 3 * fixed.pairs.len();
-        let (dr, lu): (Vec<_>, Vec<_>) = fixed
-            .groups
+        let tangents = &self.tangents;
+        let (dr, lu): (Vec<_>, Vec<_>) = self
+            .groups()
             .par_iter()
             .map(|group| {
                 let size = group.len() * nr;
@@ -496,9 +558,6 @@ impl BlockPreconditioner {
             .unzip();
         self.dr = dr;
         self.lu = lu;
-        if fixed.groups.len() > 1 {
-            self.tangents = tangents.to_vec();
-        }
     }
 
     /// `u_s = S P^-1 A r`: the section displacements of the section forces
@@ -506,13 +565,14 @@ impl BlockPreconditioner {
     /// [`BlockPreconditioner::update`] (no sweep; `released` is scratch):
     /// `P^-1 = (Z^-1 - C^T D_r C)^-1 = Z + Z C^T (I - D_r Z_r)^-1 D_r C Z`.
     pub(super) fn displacements(
-        &self,
+        &mut self,
         setup: &Setup,
         r: &[f64],
         released: &mut JointAmplitudes,
         u_s: &mut [f64],
     ) {
-        let fixed = &*self.fixed;
+        let fixed = self.fixed.clone();
+        let fixed = &*fixed;
         let nr = 3 * fixed.pairs.len();
         setup.transfer.analyse(r, released);
         for (h, fams) in released.iter_mut().enumerate() {
@@ -520,7 +580,7 @@ impl BlockPreconditioner {
                 fams[1].fill(0.0);
             }
         }
-        if fixed.groups.len() > 1 {
+        if !self.dense {
             let members = &fixed.members;
             let mut y = Vec::with_capacity(members.len());
             let mut yr = vec![0.0; members.len() * nr];
@@ -531,7 +591,14 @@ impl BlockPreconditioner {
             }
             let mut rhs = vec![0.0; yr.len()];
             self.apply_dr(setup, &yr, &mut rhs);
-            let w = self.solve_coupled(setup, &rhs);
+            let (w, converged) = self.solve_coupled(setup, &rhs);
+            if !converged && fixed.dense_allowed {
+                // Where GMRES crawls (joints far stiffer than rigid), the
+                // dense LU of the coupled system from here on.
+                self.dense = true;
+                self.factorize(setup);
+                return self.displacements(setup, r, released, u_s);
+            }
             if w.iter().all(|v| v.is_finite()) {
                 for (i, &(h, _)) in members.iter().enumerate() {
                     y[i] += &fixed.zc[h] * DVector::from_column_slice(&w[i * nr..(i + 1) * nr]);
@@ -543,7 +610,7 @@ impl BlockPreconditioner {
             setup.transfer.synthesize(released, u_s);
             return;
         }
-        for ((group, lu), dr) in fixed.groups.iter().zip(&self.lu).zip(&self.dr) {
+        for ((group, lu), dr) in self.groups().iter().zip(&self.lu).zip(&self.dr) {
             // y = Z r per member, and C Z r = (Z C^T)^T r.
             let mut y = Vec::with_capacity(group.len());
             let mut yr = DVector::<f64>::zeros(group.len() * nr);

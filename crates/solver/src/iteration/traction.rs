@@ -65,13 +65,15 @@ pub(super) struct Traction<'s, 'a> {
     pre: Option<BlockPreconditioner>,
     /// See [`IterationSettings::coupled_max`](super::types::IterationSettings::coupled_max).
     coupled_max: usize,
+    /// See [`IterationSettings::gmres_first`](super::types::IterationSettings::gmres_first).
+    gmres_first: bool,
     /// Scratch: section forces and displacements.
     x: Vec<f64>,
     u_s: Vec<f64>,
 }
 
 impl<'s, 'a> Traction<'s, 'a> {
-    pub(super) fn new(sweep: Sweep<'s, 'a>, coupled_max: usize) -> Self {
+    pub(super) fn new(sweep: Sweep<'s, 'a>, coupled_max: usize, gmres_first: bool) -> Self {
         let setup = sweep.setup;
         let rho = setup
             .model
@@ -98,6 +100,7 @@ impl<'s, 'a> Traction<'s, 'a> {
             tangents: vec![None; n],
             pre: None,
             coupled_max,
+            gmres_first,
             x: vec![0.0; setup.len()],
             u_s: vec![0.0; setup.len()],
         }
@@ -212,6 +215,7 @@ impl Formulation for Traction<'_, '_> {
             tangents,
             pre,
             coupled_max,
+            gmres_first,
             ..
         } = self;
         let (sweep, s) = (&*sweep, sweep.setup);
@@ -251,7 +255,7 @@ impl Formulation for Traction<'_, '_> {
         // Refactorized at every step: reusing it while the states stay the
         // same (the slip tangents move) cost 2 -> 15 load steps at
         // k_eta h / E = 1e5 on Scene P and stopped 1e6 at lambda = 0.
-        let pre = pre.get_or_insert_with(|| BlockPreconditioner::new(s, *coupled_max));
+        let pre = pre.get_or_insert_with(|| BlockPreconditioner::new(s, *coupled_max, *gmres_first));
         pre.update(s, tangents);
     }
 
@@ -276,9 +280,9 @@ impl Formulation for Traction<'_, '_> {
     }
 
     fn precondition(&mut self, r: &[f64], released: &mut JointAmplitudes, out: &mut [f64]) -> bool {
-        let Some(pre) = &self.pre else {
+        if self.pre.is_none() {
             return false;
-        };
+        }
         let s = self.sweep.setup;
         let n_p = s.points.len().max(1);
         for (k, o) in out.chunks_mut(3).enumerate() {
@@ -286,7 +290,9 @@ impl Formulation for Traction<'_, '_> {
         }
         let mut x = std::mem::take(&mut self.x);
         self.forces(out, &mut x);
-        pre.displacements(s, &x, released, &mut self.u_s);
+        if let Some(pre) = self.pre.as_mut() {
+            pre.displacements(s, &x, released, &mut self.u_s);
+        }
         self.x = x;
         let m = s.per_section();
         let u_s = &self.u_s;

@@ -69,6 +69,11 @@ pub struct IterationSettings {
     /// (an LU of that order per Newton step); a larger one is solved by
     /// GMRES on the per-harmonic blocks (docs/stability.md).
     pub coupled_max: usize,
+    /// Below `coupled_max`, whether GMRES solves the coupled tangent first
+    /// (the dense LU where it does not converge, and from the start for a
+    /// small system or a joint far stiffer than rigid); `false`: the dense
+    /// LU from the start (the reference).
+    pub gmres_first: bool,
 }
 
 /// Largest order of the coupled interface tangent factorized densely, in
@@ -87,6 +92,7 @@ impl Default for IterationSettings {
             max_iterations: 500,
             stall_window: 40,
             coupled_max: COUPLED_MAX,
+            gmres_first: true,
         }
     }
 }
