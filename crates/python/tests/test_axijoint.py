@@ -135,6 +135,11 @@ def test_sweep_reports_a_failing_cell():
     assert math.isclose(first["pile_end_ux"], r.summary["loaded_faces"]["pile_end"][0], rel_tol=1e-9)
     # The member columns: the shaft and the base carry the applied 0.5 MN.
     assert (abs(ok["pile_shaft_x"] + ok["pile_base_x"] + 0.5) < 1e-9).all()
+    # The whole tables per cell: the head station carries the applied 0.5 MN
+    # (Scene P's load is on the pile's lower end: the last station).
+    for stations, reaction in zip(ok["pile_stations"], ok["pile_reaction"]):
+        assert abs(reaction["F_x"].sum() + 0.5) < 1e-9
+        assert list(stations.columns[:3]) == ["z", "N", "V_x"]
 
 
 def test_the_gil_is_released_while_solving():

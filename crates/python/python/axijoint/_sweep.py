@@ -48,6 +48,7 @@ def _cell(path: str, text: str | None, params: dict, threads: int | None) -> dic
             out = Path(tmp) / "run"
             axijoint._native.run(path, scene_text, str(out), True, False)
             s = json.loads((out / "summary.json").read_text())
+            members = json.loads((out / "solution.json").read_text()).get("members", [])
         row.update(converged=bool(s.get("converged", True)), error=None, exit_status=0)
         complete = s.get("complete", True) is not False
         if not complete:
@@ -70,6 +71,12 @@ def _cell(path: str, text: str | None, params: dict, threads: int | None) -> dic
             row[f"{body}_max_moment_z"] = m["max_moment_z"]
             row[f"{body}_head_ux"] = m["head_displacement"][0]
             row[f"{body}_head_uz"] = m["head_displacement"][2]
+        from ._api import _reaction, _stations
+
+        for m in members:
+            # The whole tables, a DataFrame per cell.
+            row[f"{m['body']}_stations"] = _stations(m)
+            row[f"{m['body']}_reaction"] = _reaction(m, None)
     except BaseException as e:  # a pyo3 panic is a BaseException
         if isinstance(e, (KeyboardInterrupt, SystemExit)):
             raise
@@ -117,7 +124,9 @@ def sweep(
     `_slip_area`, `_stick_area` per joint, `max_displacement`, per member
     of `outputs.members` its reactions `<body>_shaft_x`, `_y`, `_z` and
     `<body>_base_x`, ..., `<body>_max_moment` (and `_max_moment_z`),
-    `<body>_head_ux`, `_head_uz`, `seconds` (the cell's wall time). A failing cell gives a row with its error and
+    `<body>_head_ux`, `_head_uz`, and the whole tables as a DataFrame per
+    cell, `<body>_stations` (as `Result.members`) and `<body>_reaction` (as
+    `Result.reaction`); `seconds` (the cell's wall time). A failing cell gives a row with its error and
     never stops the sweep. Only summary.json is written per cell, in a
     temporary folder (outputs.csv, plots, vtu and gmsh_views off), and the
     comparison run without joints is skipped.
