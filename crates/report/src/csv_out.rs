@@ -256,35 +256,19 @@ pub fn write_reaction(
     length: &str,
     force: &str,
 ) -> Result<(), ReportError> {
-    let header: Vec<String> = [
+    let mut header = vec![
         "part".to_string(),
         format!("z_top [{length}]"),
         format!("z_bottom [{length}]"),
-        format!("p_x [{force}/{length}]"),
-        format!("p_y [{force}/{length}]"),
-        format!("t [{force}/{length}]"),
-        format!("m_x [{force}]"),
-        format!("m_y [{force}]"),
-        format!("t_theta [{force}]"),
-        format!("F_x [{force}]"),
-        format!("F_y [{force}]"),
-        format!("F_z [{force}]"),
-        format!("M_x [{force} {length}]"),
-        format!("M_y [{force} {length}]"),
-        format!("M_z [{force} {length}]"),
-    ]
-    .into();
+    ];
+    header.extend(reaction_columns(length, force));
     let mut numbers = Vec::new();
     let mut rows: Vec<Vec<String>> = member
         .segments
         .iter()
         .map(|s| {
-            let l = s.z_top - s.z_bottom;
             let mut v = vec![s.z_top, s.z_bottom];
-            v.extend(s.force.map(|f| f / l));
-            v.extend(s.moment.map(|m| m / l));
-            v.extend(s.force);
-            v.extend(s.moment);
+            v.extend(segment_values(s));
             numbers.extend(&v);
             std::iter::once("shaft".to_string())
                 .chain(v.into_iter().map(num))
@@ -314,7 +298,7 @@ pub fn write_reaction_curves(
     length: &str,
     force: &str,
 ) -> Result<(), ReportError> {
-    let header: Vec<String> = [
+    let mut header = vec![
         "lambda [-]".to_string(),
         "part".to_string(),
         format!("z_top [{length}]"),
@@ -325,20 +309,8 @@ pub fn write_reaction_curves(
         "phi_x [rad]".to_string(),
         "phi_y [rad]".to_string(),
         "phi_z [rad]".to_string(),
-        format!("p_x [{force}/{length}]"),
-        format!("p_y [{force}/{length}]"),
-        format!("t [{force}/{length}]"),
-        format!("m_x [{force}]"),
-        format!("m_y [{force}]"),
-        format!("t_theta [{force}]"),
-        format!("F_x [{force}]"),
-        format!("F_y [{force}]"),
-        format!("F_z [{force}]"),
-        format!("M_x [{force} {length}]"),
-        format!("M_y [{force} {length}]"),
-        format!("M_z [{force} {length}]"),
-    ]
-    .into();
+    ];
+    header.extend(reaction_columns(length, force));
     let mut numbers = Vec::new();
     let mut rows = Vec::new();
     let fmt_rotation = |phi: Option<[f64; 3]>, numbers: &mut Vec<f64>| -> Vec<String> {
@@ -353,7 +325,6 @@ pub fn write_reaction_curves(
     for &(lambda, m) in steps {
         for (k, s) in m.segments.iter().enumerate() {
             let (a, b) = (&m.stations[k], &m.stations[k + 1]);
-            let l = s.z_top - s.z_bottom;
             let u = [0, 1, 2].map(|c| 0.5 * (a.displacement[c] + b.displacement[c]));
             let phi = a
                 .rotation
@@ -365,14 +336,7 @@ pub fn write_reaction_curves(
             numbers.extend(&head);
             row.extend(head[1..].iter().map(|&v| num(v)));
             row.extend(fmt_rotation(phi, &mut numbers));
-            let tail: Vec<f64> = s
-                .force
-                .map(|f| f / l)
-                .into_iter()
-                .chain(s.moment.map(|v| v / l))
-                .chain(s.force)
-                .chain(s.moment)
-                .collect();
+            let tail = segment_values(s);
             numbers.extend(&tail);
             row.extend(tail.into_iter().map(num));
             rows.push(row);
@@ -395,4 +359,35 @@ pub fn write_reaction_curves(
         }
     }
     write_atomic(path, &header, &rows, &numbers)
+}
+
+/// The reaction columns of a segment or base row: per unit length
+/// `p_x, p_y, t, m_x, m_y, t_theta`, totals `F_x .. M_z`.
+fn reaction_columns(length: &str, force: &str) -> Vec<String> {
+    vec![
+        format!("p_x [{force}/{length}]"),
+        format!("p_y [{force}/{length}]"),
+        format!("t [{force}/{length}]"),
+        format!("m_x [{force}]"),
+        format!("m_y [{force}]"),
+        format!("t_theta [{force}]"),
+        format!("F_x [{force}]"),
+        format!("F_y [{force}]"),
+        format!("F_z [{force}]"),
+        format!("M_x [{force} {length}]"),
+        format!("M_y [{force} {length}]"),
+        format!("M_z [{force} {length}]"),
+    ]
+}
+
+/// A segment's values in [`reaction_columns`] order.
+fn segment_values(s: &axijoint_solver::members::Segment) -> Vec<f64> {
+    let l = s.z_top - s.z_bottom;
+    s.force
+        .map(|f| f / l)
+        .into_iter()
+        .chain(s.moment.map(|m| m / l))
+        .chain(s.force)
+        .chain(s.moment)
+        .collect()
 }
