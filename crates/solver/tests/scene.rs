@@ -311,7 +311,11 @@ fn vtu_sections_and_fields_are_checked() {
 #[test]
 fn wrong_shape_is_named_with_its_path() {
     let e = error_of(&edited(r#""force": [0.5, 0, 0]"#, r#""force": [1, 2]"#));
-    assert_error(&e, "loads[0].force", &["invalid length 2"]);
+    assert_error(
+        &e,
+        "loads[0].force",
+        &["2 numbers given, give three: [Fx, Fy, Fz]"],
+    );
     let e = error_of(&edited(r#""from": [0, 0.75]"#, r#""from": 0.75"#));
     assert_error(&e, "cuts[0].from", &["invalid type"]);
     let e = error_of(&edited(r#""harmonics": 4"#, r#""harmonics": -1"#));
@@ -673,6 +677,19 @@ fn settings_values() {
             "increasing",
         ),
         (r#""spacing": 0.05"#, r#""spacing": 0"#, "cuts[0].spacing", "> 0"),
+        // Lists of the wrong length say what they take.
+        (
+            r#""force": [0.5, 0, 0]"#,
+            r#""force": [0.5, 0]"#,
+            "loads[0].force",
+            "give three: [Fx, Fy, Fz]",
+        ),
+        (
+            r#""torque": 0"#,
+            r#""torque": 0, "moment": [0, 1, 0]"#,
+            "loads[0].moment",
+            "give two: [Mx, My] (the moment about z is `torque`)",
+        ),
         // A spacing in the wrong unit: millions of samples, refused.
         (
             r#""spacing": 0.05"#,

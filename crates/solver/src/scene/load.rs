@@ -237,13 +237,21 @@ struct LoadSpec {
     t_z: Option<Linear>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     t_theta: Option<Linear>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        deserialize_with = "force_list"
+    )]
     force: Option<[f64; 3]>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     at_z: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     torque: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        deserialize_with = "moment_list"
+    )]
     moment: Option<[f64; 2]>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     f_r: Option<f64>,
@@ -251,6 +259,25 @@ struct LoadSpec {
     f_z: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     f_theta: Option<f64>,
+}
+
+/// A list of exactly `N` numbers, its length said in words otherwise.
+fn list<'de, D: serde::Deserializer<'de>, const N: usize>(
+    d: D,
+    what: &str,
+) -> Result<Option<[f64; N]>, D::Error> {
+    let v: Vec<f64> = Deserialize::deserialize(d)?;
+    <[f64; N]>::try_from(v.as_slice())
+        .map(Some)
+        .map_err(|_| serde::de::Error::custom(format!("{} numbers given, give {what}", v.len())))
+}
+
+fn force_list<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<[f64; 3]>, D::Error> {
+    list(d, "three: [Fx, Fy, Fz] (Cartesian, x at theta = 0)")
+}
+
+fn moment_list<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<[f64; 2]>, D::Error> {
+    list(d, "two: [Mx, My] (the moment about z is `torque`)")
 }
 
 impl LoadSpec {
