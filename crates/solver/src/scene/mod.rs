@@ -3,7 +3,7 @@
 //! The format (every key, type, unit and default) is documented in
 //! `docs/scene-format.md`. Reading is strict: every object refuses unknown
 //! keys, and an error names the file and the key path, e.g.
-//! `geo/p.json: loads[1].force: invalid length 2, expected 3 (line 14, column 31)`.
+//! `geo/p.json: loads[1].force: 2 numbers given, give three: [Fx, Fy, Fz] (Cartesian, x at theta = 0) (line 14, column 31)`.
 //!
 //! ```
 //! use axijoint_solver::scene::Scene;
