@@ -60,9 +60,10 @@ create_exception!(
 /// `without_joints`, by default the scene's `outputs.compare_without_joints`).
 /// `scene_text` is the scene's JSON; `None` reads
 /// `scene_path`, which otherwise only names it (messages, and the folder
-/// a relative `mesh.file` is resolved against).
+/// a relative `mesh.file` is resolved against). `force` goes on past the
+/// cost limits (the command line's `--force`).
 #[pyfunction]
-#[pyo3(signature = (scene_path, scene_text, output, report = true, without_joints = None))]
+#[pyo3(signature = (scene_path, scene_text, output, report = true, without_joints = None, force = false))]
 fn run(
     py: Python<'_>,
     scene_path: &str,
@@ -70,6 +71,7 @@ fn run(
     output: &str,
     report: bool,
     without_joints: Option<bool>,
+    force: bool,
 ) -> PyResult<()> {
     let result = py.detach(|| {
         solve(
@@ -78,6 +80,7 @@ fn run(
             Path::new(output),
             report,
             without_joints,
+            force,
         )
     });
     result.map_err(|e| to_py(py, &e))
@@ -89,11 +92,13 @@ fn solve(
     out: &Path,
     report: bool,
     without_joints: Option<bool>,
+    force: bool,
 ) -> anyhow::Result<()> {
-    let scene = match text {
+    let mut scene = match text {
         Some(t) => Scene::from_str(t, path)?,
         None => Scene::from_path(path)?,
     };
+    scene.force = force;
     let options = app::Options {
         output: out.to_path_buf(),
         quiet: true,

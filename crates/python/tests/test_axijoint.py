@@ -330,3 +330,16 @@ def test_members_come_as_dataframes_that_balance_the_load(tmp_path):
     assert abs(curves[curves["lambda"] == 0.5]["F_x"].sum() + 0.25) < 1e-9
     with pytest.raises(axijoint.InputError, match="no member 'footing'"):
         r.reaction("footing")
+
+
+def test_the_cost_limits_and_force(tmp_path, monkeypatch):
+    # More than 512 harmonics: refused before any work, as the binary.
+    with pytest.raises(axijoint.InputError, match="--force") as e:
+        axijoint.run(SCENE, harmonics=600)
+    assert e.value.exit_status == 1
+    # Factors beyond the memory a run may use: refused, unless forced.
+    monkeypatch.setenv("AXIJOINT_MEMORY", "1M")
+    with pytest.raises(axijoint.InputError, match="GiB"):
+        axijoint.run(SCENE, overrides={"mesh.parameters.size": COARSE}, report=False)
+    r = axijoint.run(SCENE, overrides={"mesh.parameters.size": COARSE}, report=False, force=True)
+    assert r.converged

@@ -34,8 +34,13 @@ fn alive(pid: u32) -> bool {
 /// The process id a leftover's name carries, if it is one of ours: `.without_joints-PID-*`,
 /// `.NAME.partial-PID` or (in the temporary folder) `axijoint-PID-*`.
 fn owner(name: &str, in_temp: bool) -> Option<u32> {
+    // Digits then '-': a random tempfile suffix (letters, digits, no '-')
+    // is never read as a process id.
     let digits = |s: &str| -> Option<u32> {
-        let end = s.find(|c: char| !c.is_ascii_digit()).unwrap_or(s.len());
+        let end = s.find(|c: char| !c.is_ascii_digit())?;
+        if !s[end..].starts_with('-') {
+            return None;
+        }
         s[..end].parse().ok()
     };
     if in_temp {
@@ -87,6 +92,10 @@ mod tests {
         assert_eq!(owner(".my.folder.partial-9", false), Some(9));
         assert_eq!(owner("axijoint-55-x1", true), Some(55));
         assert_eq!(owner("axijoint-sweep-x1", true), None);
+        // Python's and tempfile's own random names: no '-' after digits.
+        assert_eq!(owner("axijoint-12345678", true), None);
+        assert_eq!(owner("axijoint-99x1abc", true), None);
+        assert_eq!(owner(".without_joints12ab", false), None);
         assert_eq!(owner("out", false), None);
         assert_eq!(owner(".without_joints", false), None);
         assert_eq!(owner("results.partial-3", false), None);

@@ -386,6 +386,7 @@ def run(
     base_dir=None,
     report: bool = True,
     without_joints: bool | None = None,
+    force: bool = False,
     **kwargs,
 ) -> Result | Cases:
     """Meshes, solves and reports a scene, as `axijoint run SCENE -o OUTPUT`.
@@ -399,7 +400,9 @@ def run(
     folder (None: a temporary one, removed with the result). `report=False`
     skips the report (no summary.json, CSV or plots); `without_joints`:
     whether to solve the comparison run without joints (None: as the
-    scene's `outputs.compare_without_joints`, default true).
+    scene's `outputs.compare_without_joints`, default true). `force=True`
+    goes on past the cost limits (more than 512 harmonics, factors beyond
+    the memory a run may use), as the binary's `--force`.
 
     A failure raises `axijoint.Error` (a subclass per exit status of the
     binary, `exit_status` set) with the binary's message. A stepped run that
@@ -415,7 +418,7 @@ def run(
     else:
         out = Path(output)
     try:
-        _native.run(path, text, os.fspath(out), report, without_joints)
+        _native.run(path, text, os.fspath(out), report, without_joints, force)
     except BaseException:
         if tmp is not None:
             tmp.cleanup()
