@@ -276,7 +276,7 @@ fn io_errors_exit_5() {
     assert_status(
         &solve(&scene, &file.join("out"), &["--set", "size=0.5"]),
         5,
-        &["a_file"],
+        &["a_file/out", "a_file is a file, not a folder"],
     );
     assert_eq!(std::fs::read_to_string(&file).unwrap(), "not a folder");
     // `run` (with the comparison without joints beside the output) names
@@ -290,7 +290,7 @@ fn io_errors_exit_5() {
         out.to_str().unwrap(),
         "-q",
     ]);
-    assert_status(&run, 5, &["a_file"]);
+    assert_status(&run, 5, &["a_file/out", "is a file, not a folder"]);
 
     let folder = dir.path().join("folder.json");
     std::fs::create_dir(&folder).unwrap();

@@ -114,11 +114,7 @@ fn with_comparison(
     bonded: &Scene,
     options: &Options,
 ) -> Result<(Result<SolutionHeader>, Option<tempfile::TempDir>)> {
-    let parent = match options.output.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    std::fs::create_dir_all(&parent).with_context(|| format!("creating {}", parent.display()))?;
+    let parent = axijoint_solver::results::output_parent(&options.output)?;
     let side = tempfile::Builder::new()
         .prefix(&stale::tagged(stale::WITHOUT_JOINTS_PREFIX))
         .tempdir_in(&parent)

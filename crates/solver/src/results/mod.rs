@@ -155,6 +155,29 @@ pub fn mesh_checksum(mesh: &Mesh) -> String {
 }
 
 /// A file or folder that could not be written: the file system's fault.
+/// Makes the folder an output folder `dir` goes in, and returns it; an
+/// error names `dir` and, when a file stands in the way, that file.
+pub fn output_parent(dir: &Path) -> Result<PathBuf, SolverError> {
+    let parent = match dir.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    std::fs::create_dir_all(&parent).map_err(|e| {
+        let file = parent.ancestors().find(|a| a.is_file());
+        match file {
+            Some(f) => out_err(
+                dir,
+                format!(
+                    "cannot make the output folder: {} is a file, not a folder",
+                    f.display()
+                ),
+            ),
+            None => out_err(dir, format!("cannot make the output folder ({e})")),
+        }
+    })?;
+    Ok(parent)
+}
+
 fn out_err(path: &Path, message: impl std::fmt::Display) -> SolverError {
     output_error(path, message, OutputFault::Io)
 }
@@ -219,11 +242,7 @@ pub fn write_solution(
             ));
         }
     }
-    let parent = match dir.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    std::fs::create_dir_all(&parent).map_err(|e| out_err(&parent, e))?;
+    let parent = output_parent(dir)?;
     let name = dir
         .file_name()
         .ok_or_else(|| out_err(dir, "not a folder name"))?
@@ -231,7 +250,15 @@ pub fn write_solution(
         .into_owned();
     let stage = parent.join(format!(".{name}.partial-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&stage);
-    std::fs::create_dir_all(&stage).map_err(|e| out_err(&stage, e))?;
+    std::fs::create_dir_all(&stage).map_err(|e| {
+        out_err(
+            dir,
+            format!(
+                "cannot write the output folder in {} ({e}); choose another output folder",
+                parent.display()
+            ),
+        )
+    })?;
     let result = (|| {
         std::fs::copy(msh, stage.join(&header.mesh.file)).map_err(|e| out_err(msh, e))?;
         let solved = stage.join(SOLVED_MESH);
