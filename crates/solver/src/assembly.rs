@@ -148,6 +148,19 @@ impl JointModel {
             rule,
         }
     }
+
+    /// `k_assembled / k` per component `(xi, eta, theta)`: 1 for a joint
+    /// assembled as it is (or a spring of 0), below 1 for a softened one.
+    pub fn softening(&self) -> [f64; 3] {
+        let (k, a) = (self.springs, self.assembled);
+        [(a.k_xi, k.k_xi), (a.k_eta, k.k_eta), (a.k_theta, k.k_theta)].map(|(a, k)| {
+            if k > 0.0 && a > 0.0 {
+                a / k
+            } else {
+                1.0
+            }
+        })
+    }
 }
 
 /// Per-thread buffers of the element loop.

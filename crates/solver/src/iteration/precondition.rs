@@ -251,17 +251,12 @@ impl BlockPreconditioner {
     /// either smaller than [`GMRES_ORDER`] or a joint is stiffer than
     /// [`GMRES_STIFFNESS`].
     fn starting_dense(mut self, setup: &Setup, gmres_first: bool) -> Self {
-        let ratio = |k: f64, a: f64| if a > 0.0 { k / a } else { 1.0 };
         let stiffest = setup
             .model
             .joints
             .iter()
-            .map(|j| {
-                let (k, a) = (j.springs, j.assembled);
-                ratio(k.k_xi, a.k_xi)
-                    .max(ratio(k.k_eta, a.k_eta))
-                    .max(ratio(k.k_theta, a.k_theta))
-            })
+            .flat_map(|j| j.softening())
+            .map(|rho| 1.0 / rho)
             .fold(1.0, f64::max);
         let order = self.fixed.members.len() * 3 * self.fixed.pairs.len();
         self.dense =
@@ -269,14 +264,15 @@ impl BlockPreconditioner {
         self
     }
 
-    /// The groups of members factorized together: every member in one
-    /// (dense), or one each (GMRES).
-    fn groups(&self) -> Vec<Vec<(usize, usize)>> {
-        let members = &self.fixed.members;
+    /// The groups of members factorized together, as ranges of
+    /// [`Interface::members`]: every member in one (dense), or one each
+    /// (GMRES).
+    fn groups(&self) -> Vec<std::ops::Range<usize>> {
+        let nm = self.fixed.members.len();
         if self.dense {
-            vec![members.clone()]
+            std::iter::once(0..nm).collect()
         } else {
-            members.iter().map(|&m| vec![m]).collect()
+            (0..nm).map(|i| i..i + 1).collect()
         }
     }
 
@@ -480,22 +476,14 @@ impl BlockPreconditioner {
         let (dr, lu): (Vec<_>, Vec<_>) = self
             .groups()
             .par_iter()
-            .map(|group| {
+            .map(|range| {
+                let group = &fixed.members[range.clone()];
                 let size = group.len() * nr;
                 let mut dr = DMatrix::<f64>::zeros(size, size);
                 let mut c = vec![nalgebra::Matrix3::<f64>::zeros(); group.len() * group.len()];
-                // Phi = (a, a, b) of each member at each section.
-                let phi: Vec<Vec<[f64; 3]>> = (0..sections.len())
-                    .map(|s| {
-                        group
-                            .iter()
-                            .map(|&(h, f)| {
-                                let (a, b) = setup.transfer.phi(s, h, FAMILIES[f]);
-                                [a, a, b]
-                            })
-                            .collect()
-                    })
-                    .collect();
+                // Phi = (a, a, b) of the group's members at section s.
+                let nm = fixed.members.len();
+                let phi = |s: usize| &fixed.phi[s * nm + range.start..s * nm + range.end];
                 for (p, info) in setup.points.iter().enumerate() {
                     let k = setup.model.joints[info.joint].assembled;
                     let kk = [k.k_xi, k.k_eta, k.k_theta];
@@ -508,8 +496,8 @@ impl BlockPreconditioner {
                         };
                         used = true;
                         let w = sections.weight[s];
-                        for (i, pi) in phi[s].iter().enumerate() {
-                            for (j, pj) in phi[s].iter().enumerate() {
+                        for (i, pi) in phi(s).iter().enumerate() {
+                            for (j, pj) in phi(s).iter().enumerate() {
                                 let cij = &mut c[i * group.len() + j];
                                 for r in 0..3 {
                                     for q in 0..3 {
@@ -610,7 +598,8 @@ impl BlockPreconditioner {
             setup.transfer.synthesize(released, u_s);
             return;
         }
-        for ((group, lu), dr) in self.groups().iter().zip(&self.lu).zip(&self.dr) {
+        for ((range, lu), dr) in self.groups().into_iter().zip(&self.lu).zip(&self.dr) {
+            let group = &fixed.members[range];
             // y = Z r per member, and C Z r = (Z C^T)^T r.
             let mut y = Vec::with_capacity(group.len());
             let mut yr = DVector::<f64>::zeros(group.len() * nr);

@@ -75,21 +75,7 @@ pub(super) struct Traction<'s, 'a> {
 impl<'s, 'a> Traction<'s, 'a> {
     pub(super) fn new(sweep: Sweep<'s, 'a>, coupled_max: usize, gmres_first: bool) -> Self {
         let setup = sweep.setup;
-        let rho = setup
-            .model
-            .joints
-            .iter()
-            .map(|j| {
-                let (k, a) = (j.springs, j.assembled);
-                [(a.k_xi, k.k_xi), (a.k_eta, k.k_eta), (a.k_theta, k.k_theta)].map(|(a, k)| {
-                    if k > 0.0 && a > 0.0 {
-                        a / k
-                    } else {
-                        1.0
-                    }
-                })
-            })
-            .collect();
+        let rho = setup.model.joints.iter().map(|j| j.softening()).collect();
         let n = setup.n_pairs();
         Traction {
             sweep,
