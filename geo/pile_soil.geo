@@ -22,6 +22,7 @@
 // copy and a soil copy (crates/mesh/src/joints.rs, module doc).
 //
 // Parameters (override with gmsh -setnumber NAME VALUE, or axijoint --set):
+//   a           pile radius [m] (default 0.5)
 //   size        element size along the pile side and base [m]
 //   coarsen     far-field element size / size (far size 2 m at the defaults)
 //   order       1 = linear, 2 = quadratic elements
@@ -33,7 +34,7 @@ If (!Exists(order)) order = 2; EndIf
 If (!Exists(quads)) quads = 1; EndIf
 If (!Exists(serendipity)) serendipity = 0; EndIf
 
-a = 0.5;     // pile radius
+If (!Exists(a)) a = 0.5; EndIf  // pile radius
 L = 10.0;    // pile length (head at z = 0, toe at z = -L)
 R = 10.0;    // soil cylinder radius
 H = 20.0;    // soil depth (bottom at z = -H)

@@ -264,6 +264,53 @@ fn cost_limits_are_refused_before_the_work() {
     assert_eq!(done.status.code(), Some(0), "{}", text(&done).1);
 }
 
+/// Outputs beyond the free space of the output's disk are refused after
+/// meshing, before any factorization (10^7 sections of `field.vtu`: about
+/// 2 TB); the estimate against the files a run writes (Scene P bonded at
+/// M = 4 and 12, default sections): within 25 %.
+#[test]
+fn outputs_beyond_the_disk_are_refused_and_the_estimate_holds() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut scene = repo_scene("pile_footing_bonded.json");
+    scene["mesh"]["parameters"]["size"] = json!(0.5);
+    scene["outputs"] =
+        json!({"csv": false, "plots": false, "vtu": true, "gmsh_views": true, "vtu_sections": 10_000_000});
+    let huge = write_scene(dir.path(), "huge", &scene);
+    let out = dir.path().join("out");
+    let start = std::time::Instant::now();
+    assert_status(
+        &solve(&huge, &out, &[]),
+        1,
+        &[
+            "huge.json",
+            "the outputs of 5 harmonics",
+            "GiB",
+            "outputs.vtu",
+            "--force",
+        ],
+    );
+    assert!(start.elapsed().as_secs_f64() < 10.0 && !out.exists());
+    scene["outputs"]["vtu_sections"] = json!("auto");
+    for m in [4, 12] {
+        scene["harmonics"] = json!(m);
+        let path = write_scene(dir.path(), &format!("m{m}"), &scene);
+        let out = dir.path().join(format!("m{m}"));
+        let run = axijoint(&["run", path.to_str().unwrap(), "-o", out.to_str().unwrap(), "-q"]);
+        assert_eq!(run.status.code(), Some(0), "{}", text(&run).1);
+        let size = |f: &str| std::fs::metadata(out.join(f)).unwrap().len() as f64;
+        let written = size("displacement.f64") + size("field.vtu") + size("field_views.msh");
+        let solution: Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("solution.json")).unwrap()).unwrap();
+        let nodes = solution["mesh"]["nodes"].as_u64().unwrap() as usize;
+        let parsed = axijoint_solver::scene::Scene::from_path(&path).unwrap();
+        let estimate = axijoint_solver::run::output_bytes(&parsed, nodes) as f64;
+        assert!(
+            (0.75..=1.25).contains(&(estimate / written)),
+            "M = {m}: estimate {estimate} bytes, written {written}"
+        );
+    }
+}
+
 /// 5: the output folder cannot be made (its parent is a regular file); an
 /// input that exists but cannot be read (the scene path is a folder).
 /// (A read-only folder would not do: the tests may run as root.)

@@ -1,11 +1,12 @@
 //! Factors kept whole against joint blocks (`AXIJOINT_FACTOR_MEMORY`,
-//! crates/solver/src/driver.rs): Scene P coulomb at a coarse mesh, solved
-//! with every factor whole, with joint blocks only (`0`) and with budgets
-//! that keep some harmonics whole, must give the same displacements and the
-//! same reported results (load path, M/2 check) to 1e-12 relative: the
-//! joint blocks read the same values of L, and a full solve factorizes the
-//! harmonic again from the same matrix. Stepped (the default), one-shot,
-//! and `"harmonics": "auto"` (M grows 4, 8).
+//! crates/solver/src/run/factors.rs): Scene P coulomb at a coarse mesh,
+//! solved with every factor whole, with joint blocks only (`0`) and with
+//! budgets that keep some harmonics whole, must give the same displacements
+//! and the same reported results (load path, M/2 check) to 1e-12 relative:
+//! the joint blocks read the same values of L, and a full solve reads the
+//! rest back from disk (`AXIJOINT_FACTOR_DISK`, crates/solver/src/spill.rs)
+//! or, with `off`, factorizes the harmonic again from the same matrix.
+//! Stepped (the default), one-shot, and `"harmonics": "auto"` (M grows 4, 8).
 
 mod common;
 
@@ -29,7 +30,7 @@ fn scene(dir: &Path, name: &str, edit: impl FnOnce(&mut Value)) -> std::path::Pa
     path
 }
 
-fn run(scene: &Path, out: &Path, budget: &str) -> (Vec<f64>, Value) {
+fn run(scene: &Path, out: &Path, budget: &str, disk: &str) -> (Vec<f64>, Value) {
     let run = std::process::Command::new(env!("CARGO_BIN_EXE_axijoint"))
         .args([
             "solve",
@@ -40,6 +41,7 @@ fn run(scene: &Path, out: &Path, budget: &str) -> (Vec<f64>, Value) {
         ])
         .env("AXIJOINT_CACHE", test_cache())
         .env("AXIJOINT_FACTOR_MEMORY", budget)
+        .env("AXIJOINT_FACTOR_DISK", disk)
         .output()
         .expect("axijoint runs");
     let (stdout, stderr) = text(&run);
@@ -81,14 +83,31 @@ fn same(a: &Value, b: &Value, at: &str) {
 fn check(name: &str, edit: impl FnOnce(&mut Value)) {
     let dir = tempfile::tempdir().unwrap();
     let scene = scene(dir.path(), name, edit);
-    let (u, header) = run(&scene, &dir.path().join("whole"), "1024G");
+    let (u, header) = run(&scene, &dir.path().join("whole"), "1024G", "off");
     let scale = u.iter().fold(0.0f64, |a, v| a.max(v.abs()));
     assert!(scale > 0.0, "{name}: no displacement");
     // One factor is about 1.3 MB here: 0 and 2M solve one harmonic's whole
     // factor at a time, 3M two; 6M keeps harmonics 0 and 1 whole and 10M
     // 0..=4 (with "auto": all of M = 4, then joint blocks from 5 at M = 8).
-    for budget in ["0", "2M", "3M", "6M", "10M"] {
-        let (v, h) = run(&scene, &dir.path().join(format!("b{budget}")), budget);
+    // The rest of each reduced factor on disk (the system's folder), and
+    // factorized again (`off`).
+    let disk = dir.path().join("disk");
+    std::fs::create_dir(&disk).unwrap();
+    for (budget, disk) in [
+        ("0", disk.to_str().unwrap()),
+        ("0", "off"),
+        ("2M", ""),
+        ("3M", "off"),
+        ("6M", ""),
+        ("10M", "off"),
+    ] {
+        let (v, h) = run(
+            &scene,
+            &dir.path().join(format!("b{budget}{disk}").replace('/', "_")),
+            budget,
+            disk,
+        );
+        let budget = format!("{budget} (disk '{disk}')");
         assert_eq!(u.len(), v.len(), "{name}, budget {budget}");
         let worst = u.iter().zip(&v).fold(0.0f64, |a, (x, y)| a.max((x - y).abs()));
         assert!(

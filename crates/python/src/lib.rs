@@ -95,7 +95,11 @@ fn solve(
     force: bool,
 ) -> anyhow::Result<()> {
     let mut scene = match text {
-        Some(t) => Scene::from_str(t, path)?,
+        // An error in text changed by overrides: its line in the file.
+        Some(t) => Scene::from_str(t, path).map_err(|e| match std::fs::read_to_string(path) {
+            Ok(original) => e.located_in(&original),
+            Err(_) => e,
+        })?,
         None => Scene::from_path(path)?,
     };
     scene.force = force;

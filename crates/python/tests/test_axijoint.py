@@ -76,6 +76,40 @@ def test_dict_scene_and_keyword_overrides(tmp_path):
     assert not folder.exists()
 
 
+def test_stages_in_a_dict_scene_give_the_load_path_by_stage():
+    # A rod pulled in a rigid sleeve, unloaded and reloaded twice (a cyclic
+    # stage): the load path by stage, the loop's slip work per cycle.
+    pull = lambda f: [{"type": "resultant", "on": "pile_head", "force": [0, 0, f]}]
+    law = {"type": "mohr_coulomb", "cohesion": 0.01, "friction_deg": 0, "tensile_strength": 0}
+    scene = {
+        "mesh": {"file": "pile_soil.geo", "parameters": {"a": 0.1, "size": 0.5, "coarsen": 8}},
+        "materials": {"pile": {"E": 3.0e4, "nu": 0.0}, "soil": {"E": 3.0e7, "nu": 0.3}},
+        "joints": {
+            "pile_side": {"stiffness": "rigid", "law": law},
+            "pile_base": {"stiffness": "rigid", "law": dict(law, cohesion=0)},
+        },
+        "supports": [{"on": "soil_outer", "fix": "all"}, {"on": "soil_bottom", "fix": "all"}],
+        "stages": [
+            {"name": "load", "loads": pull(0.04), "loading": {"steps": 2}},
+            {"name": "cycles", "cyclic": {"loads": pull(0.04), "levels": [0, 1], "cycles": 2}, "loading": {"steps": 2}},
+        ],
+        "harmonics": 0,
+        "outputs": {"csv": True, "plots": False, "vtu": False, "gmsh_views": False},
+    }
+    r = axijoint.run(scene, base_dir=ROOT / "geo", without_joints=False)
+    path = r.load_path
+    assert list(path["stage"].unique()) == ["load", "cycles"]
+    assert len(path) == 2 + 2 * 2 * 2
+    assert path["pile_head_applied [MN]"].iloc[-1] == pytest.approx(0.04, rel=1e-12)
+    stages = __import__("pandas").read_csv(r.folder / "stages.csv")
+    loop = stages["dissipated [MN m]"].to_list()
+    # P^3 / (12 EA q), the Masing loop of each cycle (coarse mesh: 3 %).
+    ea, q = 3.0e4 * math.pi * 0.01, 0.01 * 2 * math.pi * 0.1
+    assert loop[1] == pytest.approx(0.04**3 / (12 * ea * q), rel=0.03)
+    assert loop[2] == pytest.approx(loop[1], rel=1e-3)
+    r.close()
+
+
 def test_bad_scene_raises_the_binarys_message(tmp_path):
     # A value out of range: the message names the key path.
     with pytest.raises(axijoint.InputError) as e:
@@ -244,6 +278,24 @@ def test_an_override_never_makes_a_named_object():
     assert e.value.exit_status == 1
     with pytest.raises(axijoint.InputError, match=r"no material 'rock' \(it has: pile, footing\)"):
         axijoint.run(SCENE, overrides={"materials.rock.E": 100.0})
+
+
+def test_an_error_in_an_overridden_scene_names_the_files_line_and_the_override():
+    # The binary reads the scene serialized again; the line is the file's.
+    lines = (ROOT / SCENE).read_text().splitlines()
+    nu_line = next(i for i, l in enumerate(lines, 1) if '"pile": {"E"' in l)
+    col = lines[nu_line - 1].index("0.17") + 1
+    with pytest.raises(axijoint.InputError) as e:
+        axijoint.run(SCENE, overrides={"materials.pile.nu": "abc"})
+    assert f"materials.pile.nu: invalid type: string \"abc\", expected f64 (line {nu_line}, column {col})" in str(e.value)
+    assert "[from the override 'materials.pile.nu' = 'abc']" in str(e.value)
+    assert e.value.exit_status == 1
+    # A key the file does not have: the override's, inside the law's line.
+    law_line = next(i for i, l in enumerate(lines, 1) if '"law":' in l)
+    with pytest.raises(axijoint.InputError) as e:
+        axijoint.run(SCENE, overrides={"joints.pile_side.law.friction": 3})
+    assert "unknown field `friction`" in str(e.value)
+    assert f"(a value an override set, within the value at line {law_line}, column" in str(e.value)
 
 
 def test_an_override_chooses_the_joints_stiffness_form():

@@ -140,21 +140,39 @@ pub fn write_convergence(path: &Path, history: &[IterationRecord]) -> Result<(),
 }
 
 /// The load path: one row per converged step; units in the header.
-pub fn write_load_path(path: &Path, load_path: &LoadPath, length: &str) -> Result<(), ReportError> {
+pub fn write_load_path(
+    path: &Path,
+    load_path: &LoadPath,
+    length: &str,
+    applied_units: &[String],
+) -> Result<(), ReportError> {
     let Some(first) = load_path.steps.first() else {
         return write_atomic(path, &["lambda [-]".to_string()], &[], &[]);
     };
-    let mut header = vec!["lambda [-]".to_string()];
-    for f in &first.observed.faces {
+    let staged = first.observed.stage.is_some();
+    let mut header = Vec::new();
+    if staged {
+        header.extend(["leg [-]", "stage", "cycle [-]", "level [-]"].map(String::from));
+    }
+    header.push("lambda [-]".to_string());
+    for (k, f) in first.observed.faces.iter().enumerate() {
         for c in ["ux", "uy", "uz", "along_load"] {
             header.push(format!("{}_{c} [{length}]", f.on));
         }
         header.push(format!("{}_rotation [rad]", f.on));
+        if staged {
+            let unit = applied_units.get(k).map_or("-", String::as_str);
+            header.push(format!("{}_applied [{unit}]", f.on));
+        }
     }
     for j in &first.observed.joints {
         for c in ["open", "slip", "stick"] {
             header.push(format!("{}_{c}_area [{length}^2]", j.joint));
         }
+    }
+    if staged {
+        let unit = applied_units.first().map_or("-", String::as_str);
+        header.push(format!("dissipated [{unit} {length}]"));
     }
     header.extend(["iterations [-]", "solves [-]", "rounds [-]", "cutbacks [-]"].map(String::from));
     let mut numbers = Vec::new();
@@ -167,12 +185,27 @@ pub fn write_load_path(path: &Path, load_path: &LoadPath, length: &str) -> Resul
                 v.extend(f.mean);
                 v.push(f.along);
                 v.push(f.rotation);
+                if staged {
+                    v.push(f.applied.unwrap_or(0.0));
+                }
             }
             for j in &s.observed.joints {
                 v.extend([j.open, j.slip, j.stick]);
             }
+            if staged {
+                v.push(s.observed.dissipated.unwrap_or(0.0));
+            }
             numbers.extend(&v);
-            let mut row: Vec<String> = v.into_iter().map(num).collect();
+            let mut row: Vec<String> = match &s.observed.stage {
+                Some(m) if staged => vec![
+                    m.leg.to_string(),
+                    m.stage.clone(),
+                    m.cycle.to_string(),
+                    m.level.to_string(),
+                ],
+                _ => Vec::new(),
+            };
+            row.extend(v.into_iter().map(num));
             row.extend(
                 [
                     s.iterations as u64,
@@ -185,6 +218,67 @@ pub fn write_load_path(path: &Path, load_path: &LoadPath, length: &str) -> Resul
             row
         })
         .collect::<Vec<_>>();
+    write_atomic(path, &header, &rows, &numbers)
+}
+
+/// The stages of a staged load path, one row per stage (per cycle of a
+/// cyclic stage): the joints' slip work over it, and each loaded face's
+/// displacement along its load and applied load at its end (the residual
+/// displacement where a cycle ends at level 0).
+pub fn write_stages(
+    path: &Path,
+    load_path: &LoadPath,
+    length: &str,
+    applied_units: &[String],
+) -> Result<(), ReportError> {
+    let Some(first) = load_path.steps.first() else {
+        return Ok(());
+    };
+    let work_unit = applied_units.first().map_or("-", String::as_str);
+    let mut header: Vec<String> = ["stage", "cycle [-]", "steps [-]"].map(String::from).to_vec();
+    header.push(format!("dissipated [{work_unit} {length}]"));
+    for (k, f) in first.observed.faces.iter().enumerate() {
+        header.push(format!("{}_along_load_end [{length}]", f.on));
+        header.push(format!(
+            "{}_applied_end [{}]",
+            f.on,
+            applied_units.get(k).map_or("-", String::as_str)
+        ));
+    }
+    let mut rows: Vec<Vec<String>> = Vec::new();
+    let mut numbers = Vec::new();
+    let mut group: Option<(String, u32, usize, f64, Vec<f64>)> = None;
+    let mut flush = |g: Option<(String, u32, usize, f64, Vec<f64>)>, rows: &mut Vec<Vec<String>>| {
+        if let Some((stage, cycle, n, work, end)) = g {
+            numbers.push(work);
+            numbers.extend(&end);
+            let mut row = vec![stage, cycle.to_string(), n.to_string(), num(work)];
+            row.extend(end.into_iter().map(num));
+            rows.push(row);
+        }
+    };
+    for s in &load_path.steps {
+        let Some(m) = &s.observed.stage else { continue };
+        let end: Vec<f64> = s
+            .observed
+            .faces
+            .iter()
+            .flat_map(|f| [f.along, f.applied.unwrap_or(0.0)])
+            .collect();
+        let work = s.observed.dissipated.unwrap_or(0.0);
+        match &mut group {
+            Some((stage, cycle, n, w, e)) if *stage == m.stage && *cycle == m.cycle => {
+                *n += 1;
+                *w += work;
+                *e = end;
+            }
+            _ => {
+                flush(group.take(), &mut rows);
+                group = Some((m.stage.clone(), m.cycle, 1, work, end));
+            }
+        }
+    }
+    flush(group.take(), &mut rows);
     write_atomic(path, &header, &rows, &numbers)
 }
 

@@ -231,6 +231,8 @@ fn iterate(
         laws,
         sections: &sections,
         elastic: Some(elastic),
+        whole_up_to: None,
+        from: None,
     };
     let stepping = scene.solver.loading.into();
     let result = solve(&problem, &settings, None, stepping, |_, _, _| (), |_| {}).map(|s| s.outcome);

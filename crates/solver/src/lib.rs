@@ -55,3 +55,4 @@ pub mod run;
 pub mod scene;
 pub mod short;
 pub mod solution;
+pub mod spill;

@@ -23,7 +23,7 @@ use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Mat, Side};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::{Arc, Mutex};
+use std::sync::{Arc, Mutex, OnceLock};
 
 /// [`Model::factorize_all`] assembles the [`StiffnessTerms`] when it
 /// factorizes at least this many harmonics: they cost about 1.5
@@ -74,6 +74,10 @@ pub struct HarmonicFactor {
     /// 0 for the whole factor.
     offset: usize,
     pinned: Vec<bool>,
+    /// The values before `offset` on disk, if written there.
+    spilled: Option<crate::spill::Spilled>,
+    /// Seconds its numeric factorization took.
+    seconds: f64,
 }
 
 impl HarmonicFactor {
@@ -81,6 +85,12 @@ impl HarmonicFactor {
     /// solve then factorizes the harmonic again).
     pub fn is_full(&self) -> bool {
         self.offset == 0
+    }
+
+    /// Whether a reduced factor keeps the rest of its values on disk
+    /// ([`crate::spill`]): a full solve reads them back.
+    pub fn on_disk(&self) -> bool {
+        self.spilled.is_some()
     }
 
     /// Bytes of the stored values of L.
@@ -119,6 +129,11 @@ pub struct Model {
     terms: Mutex<Option<Arc<StiffnessTerms>>>,
     /// Harmonics reduced to their joint blocks factorized at once.
     lean_at_once: AtomicUsize,
+    /// Where reduced factors keep the rest of their values, once opened.
+    spill: OnceLock<Option<Arc<crate::spill::SpillFile>>>,
+    /// Value buffers of whole factors dropped by a reduction or after a
+    /// full solve, for the next: a fresh buffer costs its pages again.
+    spare: Mutex<Vec<Vec<f64>>>,
 }
 
 impl Model {
@@ -191,6 +206,8 @@ impl Model {
             trail_pos,
             terms: Mutex::new(None),
             lean_at_once: AtomicUsize::new(usize::MAX),
+            spill: OnceLock::new(),
+            spare: Mutex::new(Vec::new()),
         })
     }
 
@@ -215,6 +232,18 @@ impl Model {
         lean: impl Fn(usize) -> bool + Sync,
         f: impl Fn(usize) -> T + Sync + Send,
     ) -> Vec<T> {
+        self.map_bounded_with_room(n, lean, |_| 0, f)
+    }
+
+    /// [`Model::map_bounded`], with `room(k)` more of the lean `i` at once
+    /// (up to rayon's threads) after `k` of them are done.
+    fn map_bounded_with_room<T: Send>(
+        &self,
+        n: usize,
+        lean: impl Fn(usize) -> bool + Sync,
+        room: impl Fn(usize) -> usize,
+        f: impl Fn(usize) -> T + Sync + Send,
+    ) -> Vec<T> {
         let (lean_i, whole_i): (Vec<usize>, Vec<usize>) = (0..n).partition(|&i| lean(i));
         let mut out: Vec<Option<T>> = (0..n).map(|_| None).collect();
         let mut put = |done: Vec<(usize, T)>| {
@@ -224,8 +253,18 @@ impl Model {
         };
         put(whole_i.par_iter().map(|&i| (i, f(i))).collect());
         let at_once = self.lean_at_once.load(Ordering::Relaxed).max(1);
-        for chunk in lean_i.chunks(at_once.min(lean_i.len().max(1))) {
+        let threads = rayon::current_num_threads().max(1);
+        let mut done = 0;
+        while done < lean_i.len() {
+            let more = room(done);
+            let k = if more > 0 {
+                at_once.max(at_once.saturating_add(more).min(threads))
+            } else {
+                at_once
+            };
+            let chunk = &lean_i[done..(done + k.min(lean_i.len() - done))];
             put(chunk.par_iter().map(|&i| (i, f(i))).collect());
+            done += chunk.len();
         }
         out.into_iter().map(|t| t.expect("every index mapped")).collect()
     }
@@ -239,12 +278,24 @@ impl Model {
     /// `factor` reduced to its joint block: the trailing columns of L that
     /// [`Model::solve_joint`] reads (a simplicial factor stays whole). Its
     /// joint solves are those of the whole factor, value for value;
-    /// [`Model::solve`] with it factorizes the harmonic again.
+    /// [`Model::solve`] with it reads the rest back from disk
+    /// ([`crate::spill::FACTOR_DISK_ENV`]) or, where there is none,
+    /// factorizes the harmonic again.
     pub fn joint_block(&self, mut factor: HarmonicFactor) -> HarmonicFactor {
         let first = self.pattern.n - self.trailing.len();
         if let Some(o) = trailing_offset(&factor.symbolic, first) {
             if o > factor.offset {
-                factor.values = factor.values[o - factor.offset..].to_vec();
+                let cut = o - factor.offset;
+                if factor.offset == 0 {
+                    factor.spilled = self
+                        .spill
+                        .get_or_init(crate::spill::SpillFile::open)
+                        .as_ref()
+                        .and_then(|file| file.put(&factor.values[..cut], factor.seconds));
+                }
+                let kept = factor.values[cut..].to_vec();
+                let whole = std::mem::replace(&mut factor.values, kept);
+                self.give_back(whole);
                 factor.offset = o;
             }
         }
@@ -412,14 +463,46 @@ impl Model {
         Ok(factor)
     }
 
+    /// An empty buffer for the values of a whole factor: a spare one, else
+    /// a new one.
+    fn buffer(&self) -> Result<Vec<f64>, SolveError> {
+        let len = self.symbolic.len_val();
+        if let Some(mut v) = self.spare.lock().ok().and_then(|mut s| s.pop()) {
+            v.clear();
+            return Ok(v);
+        }
+        let mut v = Vec::new();
+        v.try_reserve_exact(len)
+            .map_err(|_| SolveError::Factorization("out of memory for the factor".into()))?;
+        Ok(v)
+    }
+
+    /// Keeps the values buffer `v` of a dropped whole factor for the next
+    /// (as many as [`Model::set_lean_at_once`] allows to work at once: no
+    /// more whole factors are held than when they work; the others are
+    /// freed).
+    fn give_back(&self, v: Vec<f64>) {
+        if v.capacity() < self.symbolic.len_val() {
+            return;
+        }
+        let keep = self
+            .lean_at_once
+            .load(Ordering::Relaxed)
+            .min(rayon::current_num_threads())
+            .max(1);
+        if let Ok(mut spare) = self.spare.lock() {
+            if spare.len() < keep {
+                spare.push(v);
+            }
+        }
+    }
+
     /// The numeric factorization of [`Model::factorize_values`], without
     /// its probe.
     fn numeric(&self, m: u32, values: &[f64], pinned: Vec<bool>) -> Result<HarmonicFactor, SolveError> {
+        let t = std::time::Instant::now();
         let mat = SparseColMatRef::new(pattern_ref(&self.pattern), values);
-        let mut l_values = Vec::new();
-        l_values
-            .try_reserve_exact(self.symbolic.len_val())
-            .map_err(|_| SolveError::Factorization("out of memory for the factor".into()))?;
+        let mut l_values = self.buffer()?;
         l_values.resize(self.symbolic.len_val(), 0.0);
         let par = faer::get_global_parallelism();
         let mut mem = MemBuffer::try_new(
@@ -448,13 +531,31 @@ impl Model {
             values: l_values,
             offset: 0,
             pinned,
+            spilled: None,
+            seconds: t.elapsed().as_secs_f64(),
         })
     }
 
     /// The whole factor of a harmonic whose `factor` keeps only its joint
-    /// block: assembled as [`Model::factorize`] does and factorized again
-    /// (without the probe: the harmonic factorized before).
+    /// block: its values read back from disk, else assembled as
+    /// [`Model::factorize`] does and factorized again (without the probe:
+    /// the harmonic factorized before).
     fn refactorize(&self, factor: &HarmonicFactor) -> HarmonicFactor {
+        let read = factor.spilled.as_ref().and_then(|s| {
+            let buffer = self.buffer().ok()?;
+            s.read_then(&factor.values, buffer).ok()
+        });
+        if let Some(values) = read {
+            return HarmonicFactor {
+                m: factor.m,
+                symbolic: factor.symbolic.clone(),
+                values,
+                offset: 0,
+                pinned: factor.pinned.clone(),
+                spilled: None,
+                seconds: factor.seconds,
+            };
+        }
         let (values, pinned) = match self.current_terms() {
             Some(terms) => self.terms_from(&terms, factor.m),
             None => self.assemble(factor.m),
@@ -474,7 +575,8 @@ impl Model {
     /// [`Model::factorize_all`], with `each` run on every whole factor
     /// (e.g. its full solves) before it is reduced to its joint block
     /// ([`Model::joint_block`]) unless `keep_full(m)`; the others are
-    /// factorized at most [`Model::set_lean_at_once`] at a time.
+    /// factorized [`Model::set_lean_at_once`] at a time, more while the
+    /// joint blocks not yet made leave room for whole factors.
     pub fn factorize_all_with<T: Send>(
         &self,
         ms: &[u32],
@@ -484,9 +586,14 @@ impl Model {
         if ms.len() >= TERMS_FROM {
             self.stiffness_terms();
         }
-        self.map_bounded(
+        // The joint blocks not yet held leave room for more whole factors
+        // at once: the factors never take more than when all are held.
+        let lean = ms.iter().filter(|&&m| !keep_full(m)).count();
+        let (block, whole) = (self.joint_block_len(), self.factor_len().max(1));
+        self.map_bounded_with_room(
             ms.len(),
             |i| !keep_full(ms[i]),
+            |done| (lean - done) * block / whole,
             |i| {
                 let m = ms[i];
                 let f = self.factorize(m)?;
@@ -503,13 +610,12 @@ impl Model {
     /// A `factor` reduced to its joint block is factorized again for this
     /// solve (and dropped after it).
     pub fn solve(&self, factor: &HarmonicFactor, loads: &[&[f64]]) -> Vec<Vec<f64>> {
-        let whole;
-        let factor = if factor.is_full() {
-            factor
-        } else {
-            whole = self.refactorize(factor);
-            &whole
-        };
+        if !factor.is_full() {
+            let whole = self.refactorize(factor);
+            let u = self.solve(&whole, loads);
+            self.give_back(whole.values);
+            return u;
+        }
         let n = self.pattern.n;
         let mut b = vec![0.0; n];
         let restrict = |k: usize, b: &mut Vec<f64>| self.dofs.restrict(loads[k], &factor.pinned, b);

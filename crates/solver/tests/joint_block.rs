@@ -14,7 +14,8 @@
 //! variables (p, v, q) mix the node DOFs, and an embedded crack), for
 //! harmonics 0..=3 (every axis pinning pattern) and both families at once.
 //! A factor reduced to its joint block ([`Model::joint_block`]) gives the
-//! same joint solves and full solves, value for value.
+//! same joint solves and full solves, value for value (the rest of its
+//! values read back from disk where there is one, else factorized again).
 
 use axijoint_solver::run::{build_model, mesh_scene};
 use axijoint_solver::scene::Scene;
@@ -58,6 +59,14 @@ fn check(scene: &Scene, label: &str, reduced: bool) {
             "{label}: reduced"
         );
         assert_eq!(lean.stored_bytes(), 8 * model.joint_block_len(), "{label}");
+        // The first reduced factor of a model always tries the disk.
+        if reduced && m == 0 {
+            assert_eq!(
+                lean.on_disk(),
+                axijoint_solver::spill::usable(),
+                "{label}: on disk"
+            );
+        }
         assert_eq!(
             model.solve_joint(&lean, &[&g[0], &g[1]]),
             joint,

@@ -490,6 +490,8 @@ fn gmres_first_agrees_with_the_dense_lu_on_the_pile_in_soil() {
         laws: &laws,
         sections: &sections,
         elastic: Some(&lin.displacements),
+        whole_up_to: None,
+        from: None,
     };
     let run = |gmres_first: bool| {
         let settings = IterationSettings {

@@ -739,3 +739,43 @@ fn unreadable_files() {
     let e = parse("{\"mesh\": ").unwrap_err();
     assert!(matches!(e, SceneError::Parse { line: 1, .. }), "{e}");
 }
+
+#[test]
+fn an_error_in_text_changed_by_overrides_is_located_in_the_file() {
+    // The file's text, and the same scene as an override tool writes it
+    // again (one line, `nu` replaced by a string).
+    let file = std::fs::read_to_string(geo_dir().join("pile_footing.json")).unwrap();
+    let mut v: serde_json::Value = serde_json::from_str(&file).unwrap();
+    v["materials"]["pile"]["nu"] = serde_json::json!("abc");
+    let again = serde_json::to_string(&v).unwrap();
+    let e = Scene::from_str(&again, geo_dir().join("pile_footing.json")).unwrap_err();
+    assert!(matches!(e, SceneError::Parse { line: 1, .. }), "{e}");
+    let (line, column) = file
+        .lines()
+        .enumerate()
+        .find_map(|(i, l)| l.find("\"nu\": 0.17").map(|c| (i + 1, c + 7)))
+        .unwrap();
+    let e = e.located_in(&file);
+    let SceneError::Parse {
+        line: l,
+        column: c,
+        overridden,
+        ..
+    } = e
+    else {
+        panic!("{e}")
+    };
+    assert_eq!((l, c, overridden), (line, column, false));
+    // A key the file lacks: the value holding it, marked.
+    v["materials"]["pile"]["nu"] = serde_json::json!(0.2);
+    v["materials"]["pile"]["poisson"] = serde_json::json!(0.2);
+    let e = Scene::from_str(&serde_json::to_string(&v).unwrap(), "p.json")
+        .unwrap_err()
+        .located_in(&file);
+    assert!(
+        e.to_string().contains(&format!(
+            "a value an override set, within the value at line {line}"
+        )),
+        "{e}"
+    );
+}

@@ -118,8 +118,13 @@ pub fn print_summary(path: &Path, scene: &Scene, header: &SolutionHeader, out: &
         } else {
             "STOPPED (not a limit load) at load factor"
         };
+        let of = record
+            .load_path
+            .as_ref()
+            .and_then(|p| p.stopped_in.as_ref())
+            .map_or(String::new(), |m| format!(" of {}", m.label()));
         crate::say!(
-            "  {what} {:.4}: the load factor {:.4} failed ({}); every result below is that of the last converged step",
+            "  {what} {:.4}{of}: the load factor {:.4} failed ({}); every result below is that of the last converged step",
             limit.factor,
             limit.failed_at,
             limit.reason

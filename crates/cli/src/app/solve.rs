@@ -49,6 +49,9 @@ pub fn solve_to(scene: &Scene, out: &Path, quiet: bool) -> Result<SolutionHeader
 /// factors are made: the rest of the solve keeps about one core busy). A
 /// one-shot run that stops writes its last iterate, marked, and fails.
 pub fn solve_to_then(scene: &Scene, out: &Path, quiet: bool, iterating: &dyn Fn()) -> Result<SolutionHeader> {
+    let mut scene = scene.clone();
+    scene.output = Some(out.to_path_buf());
+    let scene = &scene;
     let tmp = super::stale::tempdir().context("creating a temporary folder")?;
     let msh = solved_msh(scene, tmp.path());
     let bar = progress_bar(quiet);
@@ -153,18 +156,21 @@ pub struct LimitReached {
     pub beyond_capacity: bool,
     pub reason: String,
     pub dir: String,
+    /// With stages: the stage it stopped in (the factor is within it).
+    pub stage: Option<String>,
 }
 
 impl LimitReached {
     fn message(&self) -> String {
+        let of = self.stage.as_ref().map_or(String::new(), |s| format!(" of {s}"));
         if self.beyond_capacity {
             format!(
-                "limit load factor {:.4}: the scene's load exceeds what the joints can carry (the load factor {:.4} found no equilibrium); the outputs in {} are those of the load factor {:.4}",
+                "limit load factor {:.4}{of}: the scene's load exceeds what the joints can carry (the load factor {:.4} found no equilibrium); the outputs in {} are those of the load factor {:.4}",
                 self.factor, self.failed_at, self.dir, self.factor
             )
         } else {
             format!(
-                "the run stopped at the load factor {:.4}, short of the whole load, for a reason that does not show the load exceeds the joints' capacity: {}; the outputs in {} are those of the load factor {:.4}",
+                "the run stopped at the load factor {:.4}{of}, short of the whole load, for a reason that does not show the load exceeds the joints' capacity: {}; the outputs in {} are those of the load factor {:.4}",
                 self.factor, self.reason, self.dir, self.factor
             )
         }
@@ -180,6 +186,12 @@ pub fn check_limit(header: &SolutionHeader, out: &Path) -> Result<()> {
             beyond_capacity: limit.beyond_capacity,
             reason: limit.reason.clone(),
             dir: out.display().to_string(),
+            stage: header
+                .record
+                .as_ref()
+                .and_then(|r| r.load_path.as_ref())
+                .and_then(|p| p.stopped_in.as_ref())
+                .map(|m| m.label()),
         }
         .into()),
         None => Ok(()),

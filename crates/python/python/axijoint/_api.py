@@ -13,7 +13,7 @@ from pathlib import Path
 from typing import Any, Mapping
 
 from . import _native
-from ._native import InputError
+from ._native import Error, InputError
 
 # The name a scene given as a dict goes by (in messages and in
 # solution.json), inside its base folder.
@@ -145,6 +145,23 @@ def _scene_source(scene, base_dir, overrides: Mapping[str, Any]) -> tuple[str, s
     for key, value in overrides.items():
         set_key(doc, key, value)
     return path, json.dumps(doc, indent=2)
+
+
+def _override_note(message: str, path: str, overrides: Mapping[str, Any]) -> str | None:
+    """For an error about the key path an override set (or one inside or
+    around it): which override, since the file holds another value."""
+    head = f"{path}: "
+    if not overrides or not message.startswith(head):
+        return None
+    key = message[len(head):].split(": ", 1)[0]
+
+    def within(a: str, b: str) -> bool:
+        return a == b or a.startswith(b + ".") or a.startswith(b + "[")
+
+    for k, v in overrides.items():
+        if within(key, k) or within(k, key):
+            return f" [from the override {k!r} = {v!r}]"
+    return None
 
 
 def _fmt_angle(theta: float) -> str:
@@ -410,7 +427,8 @@ def run(
     `Result.complete`, `Result.limit_load_factor`, `Result.exit_status`.
     A scene with `load_cases` gives `Cases` (a `Result` per case).
     """
-    path, text = _scene_source(scene, base_dir, _overrides(overrides, kwargs))
+    ov = _overrides(overrides, kwargs)
+    path, text = _scene_source(scene, base_dir, ov)
     tmp = None
     if output is None:
         tmp = tempfile.TemporaryDirectory(prefix="axijoint-")
@@ -419,6 +437,15 @@ def run(
         out = Path(output)
     try:
         _native.run(path, text, os.fspath(out), report, without_joints, force)
+    except Error as e:
+        if tmp is not None:
+            tmp.cleanup()
+        note = _override_note(str(e), path, ov)
+        if note is None:
+            raise
+        named = type(e)(f"{e}{note}")
+        named.exit_status = e.exit_status
+        raise named from None
     except BaseException:
         if tmp is not None:
             tmp.cleanup()

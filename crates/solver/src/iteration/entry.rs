@@ -47,6 +47,9 @@ pub struct Solved<T> {
     pub outcome: Outcome,
     /// The load path of a stepped run (`None`: one-shot).
     pub stepped: Option<Stepped<T>>,
+    /// The converged state at its end, for a next stage of loading
+    /// ([`super::Problem::from`]; `None`: one-shot).
+    pub end: Option<super::StageEnd>,
 }
 
 /// Solves `problem` with `settings` from the joints' `start` state (none:
@@ -65,15 +68,21 @@ pub fn solve<T>(
 ) -> Result<Solved<T>, IterationError> {
     let setup = Setup::new(problem, start)?;
     match stepping {
+        Stepping::OneShot if problem.from.is_some() => Err(IterationError::Setup(
+            "a stage of loading after another is stepped (the history law carries the state), not one-shot"
+                .into(),
+        )),
         Stepping::OneShot => Ok(Solved {
             outcome: one_shot(&setup, settings, &mut progress)?,
             stepped: None,
+            end: None,
         }),
         Stepping::Steps(control) => {
-            let (outcome, path) = stepped(&setup, control, settings, &mut progress, observe)?;
+            let (outcome, path, end) = stepped(&setup, control, settings, &mut progress, observe)?;
             Ok(Solved {
                 outcome,
                 stepped: Some(path),
+                end: Some(end),
             })
         }
     }
@@ -98,6 +107,8 @@ pub fn stress_transfer(
         laws,
         sections,
         elastic: None,
+        whole_up_to: None,
+        from: None,
     };
     solve(
         &problem,

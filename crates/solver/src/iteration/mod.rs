@@ -75,5 +75,5 @@ pub use steps::{
 pub use sweep::OBSERVED_UP_TO;
 pub use types::{
     joint_point_infos, IterationError, IterationRecord, IterationSettings, JointField, JointStart, Method,
-    Outcome, PointInfo, Problem,
+    Outcome, PointInfo, Problem, StageEnd, StageStart,
 };

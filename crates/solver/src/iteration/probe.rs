@@ -37,6 +37,8 @@ impl<'a> FixedPoint<'a> {
             laws,
             sections,
             elastic: None,
+            whole_up_to: None,
+            from: None,
         };
         Ok(FixedPoint {
             setup: Setup::new(&problem, None)?,

@@ -135,7 +135,16 @@ pub(super) fn reference_release(setup: &Setup) -> f64 {
     let mut released = setup.transfer.zeros();
     let mut ev = setup.new_eval();
     Sweep::new(setup, state).evaluate(&vec![0.0; setup.len()], &mut released, &mut ev);
-    setup.section_max(&ev.g)
+    let end = setup.section_max(&ev.g);
+    if setup.base.is_none() {
+        return end;
+    }
+    // A stage: the larger of its start and its end (one that unloads ends
+    // with no load).
+    let start = LoadState { lambda: 0.0, ..state };
+    let mut ev = setup.new_eval();
+    Sweep::new(setup, start).evaluate(&vec![0.0; setup.len()], &mut released, &mut ev);
+    end.max(setup.section_max(&ev.g))
 }
 
 impl Sweep<'_, '_> {

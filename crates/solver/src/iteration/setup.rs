@@ -7,7 +7,7 @@
 use super::eval::Eval;
 use super::interface::Interface;
 use super::transfer::{JointAmplitudes, Transfer};
-use super::types::{joint_point_infos, IterationError, JointStart, PointInfo, Problem};
+use super::types::{joint_point_infos, IterationError, JointStart, PointInfo, Problem, StageEnd};
 use crate::elements::{add_traction_forces, relative_displacement, JointSprings};
 use crate::fourier::Sections;
 use crate::joint_law::{relative_trial, JointState, PointHistory};
@@ -44,6 +44,13 @@ pub(super) struct Setup<'a> {
     /// The stiff-joint preconditioner's fixed data, formed at first use and
     /// kept for every step of the run.
     pub(super) interface: OnceLock<Arc<Interface>>,
+    /// [`Problem::whole_up_to`].
+    pub(super) whole_up_to: Option<u32>,
+    /// The loads at the stage's start (as `loads`, harmonic by harmonic)
+    /// and their elastic joint-node amplitudes ([`Problem::from`]).
+    pub(super) base: Option<(Vec<HarmonicLoads>, JointAmplitudes)>,
+    /// The converged state the stage starts from.
+    pub(super) resume: Option<&'a StageEnd>,
 }
 
 impl<'a> Setup<'a> {
@@ -57,6 +64,8 @@ impl<'a> Setup<'a> {
             laws,
             sections,
             elastic,
+            whole_up_to,
+            from,
         } = *problem;
         let n = model.mesh.nodes.len();
         let factor_of: Vec<&HarmonicFactor> = loads
@@ -85,6 +94,27 @@ impl<'a> Setup<'a> {
         let both: Vec<bool> = loads.iter().map(|h| h.m > 0 && !sections.half).collect();
         let transfer = Transfer::new(sections, &ms, both, joint_nodes.len(), points.len());
         let u0 = elastic_amplitudes(model, loads, &factor_of, &transfer.both, &joint_nodes, elastic);
+        let base = from.map(|f| {
+            let loads: Vec<HarmonicLoads> = loads
+                .iter()
+                .map(|h| {
+                    f.loads
+                        .iter()
+                        .find(|b| b.m == h.m)
+                        .cloned()
+                        .unwrap_or_else(|| HarmonicLoads::zeros(h.m, n))
+                })
+                .collect();
+            let u = elastic_amplitudes(
+                model,
+                &loads,
+                &factor_of,
+                &transfer.both,
+                &joint_nodes,
+                Some(f.elastic),
+            );
+            (loads, u)
+        });
         let mut setup = Setup {
             model,
             laws,
@@ -98,6 +128,9 @@ impl<'a> Setup<'a> {
             tension_tol: 0.0,
             start: JointStart::default(),
             interface: OnceLock::new(),
+            whole_up_to,
+            base,
+            resume: from.map(|f| f.end),
         };
         if let Some(start) = start {
             let n = setup.n_pairs();
@@ -120,11 +153,46 @@ impl<'a> Setup<'a> {
         Ok(setup)
     }
 
+    /// The loads of harmonic (index) `h` at load factor `lambda`:
+    /// `F_start + lambda F` ([`Problem::from`]).
+    pub(super) fn load_at(&self, h: usize, lambda: f64) -> HarmonicLoads {
+        let mut f = self.loads[h].scaled(lambda);
+        if let Some((base, _)) = &self.base {
+            let b = &base[h];
+            for (a, v) in f.symmetric.iter_mut().zip(&b.symmetric) {
+                *a += v;
+            }
+            for (a, v) in f.antisymmetric.iter_mut().zip(&b.antisymmetric) {
+                *a += v;
+            }
+        }
+        f
+    }
+
+    /// The elastic joint-node amplitudes at load factor `lambda`.
+    pub(super) fn u0_at(&self, lambda: f64) -> JointAmplitudes {
+        let mut u: JointAmplitudes = self
+            .u0
+            .iter()
+            .map(|fam| fam.clone().map(|v| v.iter().map(|a| lambda * a).collect()))
+            .collect();
+        if let Some((_, b)) = &self.base {
+            for (uh, bh) in u.iter_mut().zip(b) {
+                for (uk, bk) in uh.iter_mut().zip(bh) {
+                    for (a, v) in uk.iter_mut().zip(bk) {
+                        *a += v;
+                    }
+                }
+            }
+        }
+        u
+    }
+
     /// The largest joint traction `|k_a d|` of the elastic solution (the
     /// whole load, the springs as assembled) over every point and section.
     fn elastic_traction_max(&self) -> f64 {
         let mut u_s = vec![0.0; self.len()];
-        self.transfer.synthesize(&self.u0, &mut u_s);
+        self.transfer.synthesize(&self.u0_at(1.0), &mut u_s);
         let m = self.per_section();
         (0..self.sections().len())
             .map(|s| {

@@ -43,7 +43,9 @@ use super::release::reference_release;
 use super::setup::Setup;
 use super::state::LoadState;
 use super::sweep::{Sweep, IMBALANCE_TOL};
-use super::types::{solves, IterationError, IterationRecord, IterationSettings, JointField, Outcome};
+use super::types::{
+    solves, IterationError, IterationRecord, IterationSettings, JointField, Outcome, StageEnd,
+};
 use crate::joint_law::{commit, exceeds_tensile_strength, state_counts, PointHistory};
 use crate::scene::JointLaw;
 use crate::solution::Displacements;
@@ -173,7 +175,7 @@ pub(super) fn stepped<T>(
     settings: &IterationSettings,
     progress: &mut dyn FnMut(&IterationRecord),
     mut observe: impl FnMut(f64, &Displacements, &JointField) -> T,
-) -> Result<(Outcome, Stepped<T>), IterationError> {
+) -> Result<(Outcome, Stepped<T>, StageEnd), IterationError> {
     // The reference Psi_0: the paper-law release of the elastic solution.
     let mut run = Run {
         setup,
@@ -283,8 +285,20 @@ struct Path<T> {
 }
 
 impl<T> Path<T> {
-    /// Before the first step: the joints as they start, no load.
+    /// Before the first step: the joints as they start, no load; or the
+    /// state a stage of loading starts from.
     fn new(setup: &Setup) -> Self {
+        if let Some(end) = setup.resume {
+            return Path {
+                committed: end.history.clone(),
+                x_c: end.conv.x.clone(),
+                lam_c: 0.0,
+                last: Some((end.conv.clone(), None)),
+                steps: Vec::new(),
+                cutbacks: 0,
+                spent: 0,
+            };
+        }
         let committed = (0..setup.n_pairs())
             .map(|k| PointHistory {
                 debonded: setup.start.debonded.get(k).copied().unwrap_or(false),
@@ -355,7 +369,7 @@ impl<T> Path<T> {
 
     /// The outcome at the last converged load (lambda = 0: the unloaded
     /// state), and the path to it (`limit`: where it stopped short).
-    fn finish(self, setup: &Setup, limit: Option<LimitLoad>) -> (Outcome, Stepped<T>) {
+    fn finish(self, setup: &Setup, limit: Option<LimitLoad>) -> (Outcome, Stepped<T>, StageEnd) {
         let Path {
             committed,
             x_c,
@@ -365,21 +379,29 @@ impl<T> Path<T> {
             ..
         } = self;
         let sweep = Sweep::new(setup, LoadState::stepped(lam_c, &committed));
-        let outcome = match last {
+        let (conv, displacements) = match last {
+            // Joint blocks only: the whole displacements once, at the end.
             Some((conv, displacements)) => {
-                // Joint blocks only: the whole displacements once, at the end.
                 let displacements = displacements.unwrap_or_else(|| sweep.full_displacements(&x_c));
-                sweep.finish_with(conv, displacements)
+                (conv, displacements)
             }
             None => {
                 let mut released = setup.transfer.zeros();
                 let mut ev = setup.new_eval();
                 sweep.evaluate(&x_c, &mut released, &mut ev);
                 let displacements = sweep.full_displacements(&x_c);
-                sweep.finish_with(Converged::new(x_c, Vec::new(), ev, Vec::new()), displacements)
+                (Converged::new(x_c, Vec::new(), ev, Vec::new()), displacements)
             }
         };
-        (outcome, Stepped { steps, limit })
+        let end = StageEnd {
+            conv: conv.clone(),
+            history: committed.clone(),
+        };
+        (
+            sweep.finish_with(conv, displacements),
+            Stepped { steps, limit },
+            end,
+        )
     }
 }
 

@@ -74,13 +74,22 @@ impl<'s, 'a> Sweep<'s, 'a> {
             .collect()
     }
 
-    /// The joint-node displacements `K^-1 (lambda F + A x)` (one sweep).
+    /// The joint-node displacements `K^-1 (F_start + lambda F + A x)` (one
+    /// sweep).
     fn solve_loaded(&self, x: &[f64], released: &mut JointAmplitudes) -> JointAmplitudes {
         let (u0, lambda) = (&self.setup.u0, self.state.lambda);
+        let base = self.setup.base.as_ref().map(|(_, b)| b);
         self.back_substitute(x, released, |h, u| {
             for (uk, u0) in u.iter_mut().zip(&u0[h]) {
                 for (a, b) in uk.iter_mut().zip(u0) {
                     *a += lambda * b;
+                }
+            }
+            if let Some(base) = base {
+                for (uk, b0) in u.iter_mut().zip(&base[h]) {
+                    for (a, b) in uk.iter_mut().zip(b0) {
+                        *a += b;
+                    }
                 }
             }
         })
@@ -113,10 +122,13 @@ impl<'s, 'a> Sweep<'s, 'a> {
     }
 
     /// The displacements of every node for released section forces `x`:
-    /// one full solve of `lambda F + A x` per harmonic (a harmonic whose
-    /// factor keeps only its joint block is factorized again for it).
+    /// one full solve of `lambda F + A x` per harmonic up to
+    /// [`Problem::whole_up_to`](super::Problem::whole_up_to) (a harmonic
+    /// whose factor keeps only its joint block is factorized again for it).
     pub(super) fn full_displacements(&self, x: &[f64]) -> Displacements {
-        self.displacements(x, (0..self.setup.loads.len()).collect())
+        let loads = self.setup.loads;
+        let up_to = self.setup.whole_up_to.unwrap_or(u32::MAX);
+        self.displacements(x, (0..loads.len()).filter(|&h| loads[h].m <= up_to).collect())
     }
 
     /// [`Sweep::full_displacements`] of the harmonics a load step's
@@ -144,7 +156,7 @@ impl<'s, 'a> Sweep<'s, 'a> {
             |i| {
                 let h = wanted[i];
                 let (factor, g) = (setup.factor_of[h], &released[h]);
-                let f = setup.loads[h].scaled(self.state.lambda);
+                let f = setup.load_at(h, self.state.lambda);
                 let mut loads = [f.symmetric, f.antisymmetric];
                 for (vec, gk) in loads.iter_mut().zip(g) {
                     setup.add_at_joint_nodes(gk, vec);
@@ -188,14 +200,16 @@ impl<'s, 'a> Sweep<'s, 'a> {
         setup.transfer.analyse(x, &mut released);
         let mut size = 0.0;
         let mut sums = Vec::new();
+        let magnitude =
+            |f: &HarmonicLoads| -> f64 { f.symmetric.iter().chain(&f.antisymmetric).map(|v| v.abs()).sum() };
+        // A stage that unloads is measured against its largest load.
+        let mut stage_size = 0.0;
         for (h, load) in setup.loads.iter().enumerate() {
-            let magnitude: f64 = load
-                .symmetric
-                .iter()
-                .chain(&load.antisymmetric)
-                .map(|v| v.abs())
-                .sum();
-            size += lambda.abs() * magnitude;
+            let f = setup.load_at(h, lambda);
+            size += magnitude(&f);
+            if setup.base.is_some() {
+                stage_size += magnitude(&setup.load_at(h, 0.0)).max(magnitude(&setup.load_at(h, 1.0)));
+            }
             let Some(d) = u
                 .harmonics
                 .iter()
@@ -203,7 +217,6 @@ impl<'s, 'a> Sweep<'s, 'a> {
             else {
                 continue;
             };
-            let f = load.scaled(lambda);
             let mut v = HarmonicLoads::zeros(load.m, n);
             let families = [
                 (&d.symmetric, f.symmetric, &mut v.symmetric),
@@ -224,6 +237,7 @@ impl<'s, 'a> Sweep<'s, 'a> {
             }
             sums.push(v);
         }
+        let size = f64::max(size, stage_size);
         if size == 0.0 {
             return 0.0;
         }

@@ -30,6 +30,45 @@ pub struct Problem<'a> {
     /// The elastic solution `K^-1 F` of (some of) the harmonics of `loads`,
     /// if known: those cost no solve.
     pub elastic: Option<&'a Displacements>,
+    /// The highest harmonic whose whole displacements the outcome needs
+    /// (`None`: every one); the outcome's displacements of the others are
+    /// zero. A harmonic whose factor keeps only its joint block is
+    /// factorized again for them, so a caller that reads only the loaded
+    /// faces' mean motion asks for harmonics 0 and 1.
+    pub whole_up_to: Option<u32>,
+    /// The stage of loading this one follows (none: the first, from no
+    /// load): then `loads` are the increment over the stage, `F(lambda) =
+    /// F_start + lambda loads`, and `elastic` is the increment's.
+    pub from: Option<StageStart<'a>>,
+}
+
+/// Where a stage of loading starts ([`Problem::from`]).
+#[derive(Clone, Copy)]
+pub struct StageStart<'a> {
+    /// The loads reached (harmonics as the problem's `loads`; a missing
+    /// one is zero).
+    pub loads: &'a [HarmonicLoads],
+    /// Their elastic solution `K^-1 F_start` (some harmonics at least).
+    pub elastic: &'a Displacements,
+    /// The converged state there: the released forces and the committed
+    /// joint history.
+    pub end: &'a StageEnd,
+}
+
+/// The converged state at the end of a stepped run ([`super::Solved::end`]):
+/// where the next stage of loading starts.
+#[derive(Clone)]
+pub struct StageEnd {
+    pub(super) conv: super::attempt::Converged,
+    pub(super) history: Vec<crate::joint_law::PointHistory>,
+}
+
+impl std::fmt::Debug for StageEnd {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("StageEnd")
+            .field("pairs", &self.history.len())
+            .finish_non_exhaustive()
+    }
 }
 
 /// How the next released forces are chosen.

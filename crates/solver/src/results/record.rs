@@ -123,14 +123,51 @@ pub struct JointSpringsRecord {
 pub struct LoadPath {
     /// Converged steps, in order of lambda.
     pub steps: Vec<LoadStep<StepMeasure>>,
-    /// Set when the whole load could not be reached: the limit load factor.
+    /// Set when the whole load could not be reached: the limit load factor
+    /// (of the stage it stopped in, with stages).
     pub limit: Option<LimitLoad>,
+    /// With stages: the stage the run stopped in (`limit` set).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stopped_in: Option<StageMark>,
 }
 
 impl LoadPath {
-    /// The load factor reached (1 when the whole load converged).
+    /// The factor on the run's loads reached (1 when the whole load
+    /// converged; with stages the run's loads are those applied where it
+    /// stopped: 1).
     pub fn reached(&self) -> f64 {
-        self.limit.as_ref().map_or(1.0, |l| l.factor)
+        match (&self.limit, &self.stopped_in) {
+            (Some(l), None) => l.factor,
+            _ => 1.0,
+        }
+    }
+}
+
+/// A leg of a staged load path ([`crate::scene::Scene::legs`]).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct StageMark {
+    /// 0-based leg in the order run (a cyclic stage has a leg per level
+    /// and cycle).
+    pub leg: usize,
+    /// The stage's name.
+    pub stage: String,
+    /// 1-based cycle and level of a cyclic stage (0: none).
+    pub cycle: u32,
+    /// 1-based level in the cycle (0: none).
+    pub level: u32,
+}
+
+impl StageMark {
+    /// `stage 'storm'`, or `stage 'storm', cycle 2, level 1`.
+    pub fn label(&self) -> String {
+        if self.cycle == 0 {
+            format!("stage '{}'", self.stage)
+        } else {
+            format!(
+                "stage '{}', cycle {}, level {}",
+                self.stage, self.cycle, self.level
+            )
+        }
     }
 }
 
@@ -145,6 +182,16 @@ pub struct StepMeasure {
     /// (their reaction curves).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub members: Vec<crate::members::MemberForces>,
+    /// With stages: the leg the step belongs to (its `lambda` is the
+    /// factor within it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stage: Option<StageMark>,
+    /// With stages: the work of the joints' slip in the step (force times
+    /// length, >= 0 up to the step's error): `sum da (p . ds)` over the
+    /// (section, point) pairs at the step's traction, `ds = dd - dp / k`
+    /// the plastic slip.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dissipated: Option<f64>,
 }
 
 /// The motion of a loaded face.
@@ -160,6 +207,11 @@ pub struct FaceMotion {
     /// load with a force, the rotation times the face's mean nodal radius
     /// for a pure torque, else the largest component of `mean`.
     pub along: f64,
+    /// With stages: the load on the face at the step along the same
+    /// direction (the force along the first load's force, or the torque of
+    /// a pure torque): the ordinate of a hysteresis loop.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub applied: Option<f64>,
 }
 
 /// Joint areas by state (length^2), from the section integration.

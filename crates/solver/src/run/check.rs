@@ -20,15 +20,10 @@ pub(super) fn harmonic_check(
     half: (&Outcome, u32),
 ) -> HarmonicCheck {
     let mesh = &model.mesh;
-    let faces = |o: &Outcome| -> Vec<[f64; 3]> {
-        let d = padded(&o.displacements, loads);
-        scene
-            .loads
-            .iter()
-            .filter_map(|l| face_displacement(mesh, l.on(), &d))
-            .collect()
-    };
-    let (a, b) = (faces(full.0), faces(half.0));
+    let (a, b) = (
+        face_means(scene, model, loads, full.0),
+        face_means(scene, model, loads, half.0),
+    );
     let scale = a.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
     let diff = a
         .iter()
@@ -53,7 +48,7 @@ pub(super) fn harmonic_check(
     );
     let n = mesh.nodes.len();
     let u_max = max_displacement(n, &uf);
-    let (face_change, note) = if scale > 1e-3 * u_max {
+    let (face_change, note) = if measured_by_faces(scale, u_max) {
         (diff / scale, None)
     } else {
         let delta = Displacements {
@@ -90,6 +85,35 @@ pub(super) fn harmonic_check(
         area_change: Some(if total > 0.0 { open.max(slip) / total } else { 0.0 }),
         note,
     }
+}
+
+/// The mean displacement of each loaded face (harmonics 0 and 1 of `o`).
+fn face_means(scene: &Scene, model: &Model, loads: &[HarmonicLoads], o: &Outcome) -> Vec<[f64; 3]> {
+    let d = padded(&o.displacements, loads);
+    scene
+        .loads
+        .iter()
+        .filter_map(|l| face_displacement(&model.mesh, l.on(), &d))
+        .collect()
+}
+
+/// Whether faces moving `scale` in a field whose largest displacement is
+/// `u_max` measure the check (else loads of harmonics >= 2 move the faces
+/// without moving their mean, and the whole field is compared).
+fn measured_by_faces(scale: f64, u_max: f64) -> bool {
+    scale > 1e-3 * u_max
+}
+
+/// Whether the loaded faces' mean motion measures the M/2 check of the run
+/// with outcome `full`: then the run with harmonics 0..=M/2 needs whole
+/// displacements of harmonics 0 and 1 only.
+pub(super) fn faces_measure(scene: &Scene, model: &Model, loads: &[HarmonicLoads], full: &Outcome) -> bool {
+    let scale = face_means(scene, model, loads, full)
+        .iter()
+        .flatten()
+        .fold(0.0f64, |m, v| m.max(v.abs()));
+    let u = padded(&full.displacements, loads);
+    measured_by_faces(scale, max_displacement(model.mesh.nodes.len(), &u))
 }
 
 /// The run with harmonics 0..=M/2 of a check.

@@ -11,6 +11,7 @@ use crate::solution::{Displacements, HarmonicDisplacement};
 /// GiB). When the factors of every harmonic do not fit, the lowest
 /// harmonics keep whole factors, the others only their joint blocks (all
 /// the stress-transfer iteration reads), and a full solve of one of those
+/// reads the rest back from disk ([`crate::spill::FACTOR_DISK_ENV`]) or
 /// factorizes it again, as many at once as fit beside the kept ones (at
 /// least one). Unset: half the memory available when the run starts. `0`:
 /// joint blocks only, one whole factor at a time.
@@ -52,14 +53,31 @@ pub(super) fn check_cost(scene: &crate::scene::Scene, model: &Model, n: usize) -
         })?),
         _ => mem_available(),
     };
-    let (Some(available), false) = (limit, scene.force) else {
+    if scene.force {
+        return Ok(());
+    }
+    let gib = |b: u64| b as f64 / (1u64 << 30) as f64;
+    if let Some(dir) = &scene.output {
+        let need = output_bytes(scene, model.mesh.nodes.len());
+        if let Some(free) = crate::spill::free_space(dir).filter(|&free| need > free) {
+            return Err(SolverError::Solve(crate::linear::SolveError::Input(format!(
+                "{}: the outputs of {} harmonics on {} nodes take about {:.1} GiB (`harmonics`, `outputs.vtu_sections`, the mesh), and the disk of {} has {:.1} GiB free: lower them, switch off `outputs.vtu` or write elsewhere; --force goes on",
+                scene.path.display(),
+                scene.harmonics() + 1,
+                model.mesh.nodes.len(),
+                gib(need),
+                dir.display(),
+                gib(free)
+            ))));
+        }
+    }
+    let Some(available) = limit else {
         return Ok(());
     };
     let need = least_factor_memory(model, n);
     if need <= available {
         return Ok(());
     }
-    let gib = |b: u64| b as f64 / (1u64 << 30) as f64;
     Err(SolverError::Solve(crate::linear::SolveError::Input(format!(
         "{}: the factors of {n} harmonics of {} unknowns need at least {:.1} GiB ({n} joint blocks of {:.1} MiB and one whole factor of {:.1} MiB), {:.1} GiB are available (${MEMORY_ENV}, else the machine's): lower `harmonics` (\"auto\" chooses what the answer needs) or coarsen the mesh (`mesh.parameters`); --force goes on",
         scene.path.display(),
@@ -69,6 +87,30 @@ pub(super) fn check_cost(scene: &crate::scene::Scene, model: &Model, n: usize) -
         8.0 * model.factor_len() as f64 / (1u64 << 20) as f64,
         gib(available)
     ))))
+}
+
+/// About the bytes a run of `scene` on a mesh of `nodes` nodes writes:
+/// the displacements of every harmonic (`solve`), and with the report the
+/// revolved `field.vtu` (about 120 bytes per node and ring of points:
+/// `max(16, 8 M)` rings by default, two per section of
+/// `outputs.vtu_sections` at most) and the gmsh views (about 700 bytes per
+/// node). Measured on Scene P; the CSV files and plots are small beside
+/// them.
+pub fn output_bytes(scene: &crate::scene::Scene, nodes: usize) -> u64 {
+    use crate::scene::VtuSections;
+    let (n, m) = (nodes as u64, scene.harmonics() as u64);
+    let mut bytes = 48 * n * (m + 1);
+    if scene.outputs.vtu {
+        let rings = match scene.outputs.vtu_sections {
+            VtuSections::Auto => (8 * m).max(16),
+            VtuSections::Count(k) => 2 * k as u64,
+        };
+        bytes += 120 * n * rings;
+    }
+    if scene.outputs.gmsh_views {
+        bytes += 700 * n;
+    }
+    bytes
 }
 
 /// `MemAvailable` of `/proc/meminfo`, in bytes.

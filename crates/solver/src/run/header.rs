@@ -72,8 +72,11 @@ pub fn record(scene: &Scene, run: &Run) -> Option<RunRecord> {
                 r.limit_load_factor = Some(limit.factor);
             }
             r.complete = Some(false);
+            let of = path.stopped_in.as_ref().map_or(String::new(), |m| {
+                format!(" of {} (the loads are those applied there)", m.label())
+            });
             r.note = Some(format!(
-                "the whole load was not reached: every result is that of the last converged load factor {:.6}",
+                "the whole load was not reached: every result is that of the last converged load factor {:.6}{of}",
                 limit.factor
             ));
         }

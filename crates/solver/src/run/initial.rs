@@ -90,6 +90,8 @@ pub fn initial_phase(
             laws: &laws,
             sections: &sections,
             elastic: None,
+            whole_up_to: None,
+            from: None,
         };
         let loading = scene.solver.loading.into();
         let solved =

@@ -278,6 +278,7 @@ pub(super) fn face_motion(mesh: &Mesh, load: &crate::scene::Load, u: &Displaceme
         mean,
         rotation,
         along,
+        applied: None,
     })
 }
 

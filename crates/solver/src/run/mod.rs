@@ -23,11 +23,14 @@ mod measures;
 mod model;
 mod nonlinear;
 mod plausible;
+mod stages;
 
 pub use auto::solve_scene_auto;
 pub use cases::{solve_cases, Cases};
 pub use elastic::{solve_linear, Problem};
-pub use factors::{factor_memory_budget, least_factor_memory, solve_loads, FACTOR_MEMORY_ENV, MEMORY_ENV};
+pub use factors::{
+    factor_memory_budget, least_factor_memory, output_bytes, solve_loads, FACTOR_MEMORY_ENV, MEMORY_ENV,
+};
 pub use header::{last_iterate_header, record, solution_header};
 pub use initial::{initial_phase, InitialState};
 pub use measures::{

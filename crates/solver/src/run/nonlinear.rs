@@ -2,7 +2,7 @@
 //! solution (one-shot or along the load path), its M/2 check, and the
 //! reactions at the solution.
 
-use super::check::{halved, HalfRun};
+use super::check::{faces_measure, halved, HalfRun};
 use super::elastic::{ElasticLoad, Problem};
 use super::initial::InitialState;
 use super::measures::{face_motion, padded, reactions, scaled};
@@ -33,14 +33,20 @@ pub(super) struct Start<'a> {
 }
 
 /// The nonlinear solution with harmonics 0..=m on `sections`: one-shot or
-/// along the load path of `solver.loading` (the iteration chooses).
+/// along the load path of `solver.loading` (the iteration chooses); the
+/// outcome's whole displacements up to harmonic `whole_up_to` (`None`:
+/// every one).
 pub(super) fn iterate(
     scene: &Scene,
     start: Start<'_>,
     m: u32,
+    whole_up_to: Option<u32>,
     sections: &Sections,
     progress: impl FnMut(&IterationRecord),
 ) -> Result<(Outcome, Option<LoadPath>), SolverError> {
+    if !scene.stages.is_empty() {
+        return super::stages::iterate_stages(scene, start, m, whole_up_to, sections, progress);
+    }
     let Start {
         problem,
         loads: all,
@@ -59,6 +65,8 @@ pub(super) fn iterate(
         laws: &laws,
         sections,
         elastic: Some(elastic),
+        whole_up_to,
+        from: None,
     };
     let mesh = &model.mesh;
     let springs: Vec<_> = model.joints.iter().map(|j| j.springs).collect();
@@ -94,6 +102,8 @@ pub(super) fn iterate(
                 .iter()
                 .map(|&b| crate::members::member_forces(scene, model, all, lambda, &d, Some(field), b))
                 .collect(),
+            stage: None,
+            dissipated: None,
         }
     };
     let loading = scene.solver.loading.into();
@@ -108,6 +118,7 @@ pub(super) fn iterate(
     let path = solved.stepped.map(|s| LoadPath {
         steps: s.steps,
         limit: s.limit,
+        stopped_in: None,
     });
     Ok((solved.outcome, path))
 }
@@ -140,7 +151,7 @@ pub(super) fn finish(
         elastic: &run.displacements,
         initial: run.initial.as_ref(),
     };
-    let (outcome, load_path) = match iterate(scene, start, m, &sections, &mut progress) {
+    let (outcome, load_path) = match iterate(scene, start, m, None, &sections, &mut progress) {
         Ok(v) => v,
         Err(SolverError::Iteration(e)) => {
             let last = e.last().cloned().map(|last| {
@@ -157,11 +168,32 @@ pub(super) fn finish(
     };
     let complete = load_path.as_ref().is_none_or(|p| p.limit.is_none());
     let half = if m >= 2 && complete {
-        HalfRun::Solved(Box::new(iterate(scene, start, m / 2, &sections, |_| {})))
+        // Where the loaded faces' mean motion measures the check, the half
+        // run needs no whole displacements beyond harmonic 1.
+        let whole_up_to = faces_measure(scene, &run.problem.model, &run.loads, &outcome).then_some(1);
+        HalfRun::Solved(Box::new(iterate(
+            scene,
+            start,
+            m / 2,
+            whole_up_to,
+            &sections,
+            |_| {},
+        )))
     } else {
         HalfRun::NotRun
     };
     run.harmonic_check = halved(scene, &run.problem.model, &run.loads, (&outcome, m), half);
+    if let Some((mark, limit)) = load_path
+        .as_ref()
+        .and_then(|p| p.stopped_in.as_ref().zip(p.limit.as_ref()))
+    {
+        // Stopped within a stage: the loads applied there.
+        let m_all = run.loads.iter().map(|h| h.m).max().unwrap_or(0);
+        match super::stages::applied(scene, &run.problem.model, mark.leg, limit.factor, m_all) {
+            Ok(loads) => run.loads = loads,
+            Err(error) => return Err(Box::new(Stopped { error, last: None })),
+        }
+    }
     run.displacements = outcome.displacements.clone();
     run.timings.solve += t.elapsed().as_secs_f64();
     let lambda = load_path.as_ref().map_or(1.0, LoadPath::reached);

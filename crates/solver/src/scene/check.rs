@@ -43,7 +43,7 @@ fn uses_identifier(text: &str, name: &str) -> bool {
 }
 
 impl Scene {
-    fn invalid(&self, key: impl Into<String>, message: impl Into<String>) -> SceneError {
+    pub(super) fn invalid(&self, key: impl Into<String>, message: impl Into<String>) -> SceneError {
         SceneError::Invalid {
             path: self.path.clone(),
             key: key.into(),
@@ -114,6 +114,7 @@ impl Scene {
             self.check_load(i, load)?;
         }
         self.check_load_cases()?;
+        self.check_stages()?;
         if let Some(sections) = &self.sections {
             let t = &sections.theta_deg;
             match sections.count {
@@ -384,7 +385,7 @@ impl Scene {
         }
     }
 
-    fn check_load(&self, i: usize, load: &Load) -> Result<(), SceneError> {
+    pub(super) fn check_load(&self, i: usize, load: &Load) -> Result<(), SceneError> {
         let key = |k: &str| format!("loads[{i}].{k}");
         let m = load.max_harmonic();
         let harmonic_key = match load {
@@ -619,6 +620,16 @@ impl Scene {
         }
         for k in 0..self.load_cases.len() {
             self.case(k).check_loads_on(mesh).map_err(|e| e.in_case(k))?;
+        }
+        for (k, s) in self.stages.iter().enumerate() {
+            self.stage_scene(s.loads.clone())
+                .check_loads_on(mesh)
+                .map_err(|e| e.in_stage(k, "loads"))?;
+            if let Some(c) = &s.cyclic {
+                self.stage_scene(c.loads.clone())
+                    .check_loads_on(mesh)
+                    .map_err(|e| e.in_stage(k, "cyclic.loads"))?;
+            }
         }
         self.check_loads_on(mesh)
     }

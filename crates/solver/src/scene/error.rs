@@ -18,7 +18,7 @@ pub enum SceneError {
     },
     /// The JSON is malformed, or a value has the wrong type or shape, or a
     /// key is unknown or missing.
-    #[error("{path}: {key}: {message} (line {line}, column {column})")]
+    #[error("{path}: {key}: {message} ({})", location(*.line, *.column, *.overridden))]
     Parse {
         /// The scene file.
         path: PathBuf,
@@ -30,6 +30,9 @@ pub enum SceneError {
         line: usize,
         /// 1-based column.
         column: usize,
+        /// The value is not in the file: an override set it (`line` and
+        /// `column` then locate the file's value that holds it).
+        overridden: bool,
     },
     /// A value is well-formed but not allowed (E <= 0, nu >= 0.5, a face that
     /// is not flat, ...).
@@ -63,7 +66,51 @@ pub enum SceneError {
     },
 }
 
+/// Where a parse error is, in its message.
+fn location(line: usize, column: usize, overridden: bool) -> String {
+    if overridden {
+        format!("a value an override set, within the value at line {line}, column {column}")
+    } else {
+        format!("line {line}, column {column}")
+    }
+}
+
 impl SceneError {
+    /// The same error with a key of `loads` read as one of stage `k`'s
+    /// `field` (`loads[i]...` -> `stages[k].loads[i]...` or
+    /// `stages[k].cyclic.loads[i]...`).
+    pub fn in_stage(mut self, k: usize, field: &str) -> SceneError {
+        if let SceneError::Parse { key, .. }
+        | SceneError::Invalid { key, .. }
+        | SceneError::UnknownName { key, .. } = &mut self
+        {
+            if let Some(rest) = key.strip_prefix("loads") {
+                *key = format!("stages[{k}].{field}{rest}");
+            }
+        }
+        self
+    }
+
+    /// The same error read from `text` changed by overrides, with the line
+    /// and column of a parse error in `original` (the file's own text):
+    /// where its key's value is there, else (the value an override added)
+    /// where the nearest value holding it is. Other errors name no line.
+    pub fn located_in(mut self, original: &str) -> SceneError {
+        if let SceneError::Parse {
+            key,
+            line,
+            column,
+            overridden,
+            ..
+        } = &mut self
+        {
+            if let Some(((l, c), exact)) = super::locate::locate(original, key) {
+                (*line, *column, *overridden) = (l, c, !exact);
+            }
+        }
+        self
+    }
+
     /// The same error with a key of `loads` read as one of load case `k`
     /// (`loads[i]...` -> `load_cases[k].loads[i]...`).
     pub fn in_case(mut self, k: usize) -> SceneError {

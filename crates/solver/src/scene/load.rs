@@ -192,6 +192,28 @@ impl Load {
         }
     }
 
+    /// The load times `f` (forces, moments, torques and tractions; not
+    /// where they act).
+    pub fn scaled(&self, f: f64) -> Load {
+        let mut out = self.clone();
+        let lin = |l: &mut Linear| {
+            l.c *= f;
+            l.r *= f;
+            l.z *= f;
+        };
+        match &mut out {
+            Load::Traction(l) => l.t.iter_mut().for_each(lin),
+            Load::Resultant(l) => {
+                l.force.iter_mut().for_each(|v| *v *= f);
+                l.moment.iter_mut().for_each(|v| *v *= f);
+                l.torque *= f;
+            }
+            Load::Ring(l) => l.f.iter_mut().for_each(|v| *v *= f),
+            Load::Point(l) => l.force.iter_mut().for_each(|v| *v *= f),
+        }
+        out
+    }
+
     /// The highest harmonic with a non-zero part.
     pub fn max_harmonic(&self) -> u32 {
         match self {

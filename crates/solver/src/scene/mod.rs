@@ -31,7 +31,9 @@ mod check;
 mod error;
 mod joint;
 mod load;
+mod locate;
 mod settings;
+mod stage;
 
 pub use error::{did_you_mean, nearest, NameKind, SceneError};
 pub use joint::{
@@ -43,6 +45,7 @@ pub use settings::{
     Adapt, Cut, Fix, InitialStress, Loading, Material, MeshSource, Outputs, Sections, SolverMethod,
     SolverSettings, Support, Units, VtuSections,
 };
+pub use stage::{Cyclic, Leg, Stage, MAX_STAGES};
 
 use axijoint_mesh::JointSpec;
 use serde::de::{self, MapAccess, Visitor};
@@ -142,6 +145,11 @@ pub struct Scene {
     /// state (none: `loads` is the one case).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub load_cases: Vec<LoadCase>,
+    /// Loads in stages, each from the converged state of the one before
+    /// (none: `loads` is the one stage). When given, `loads` holds the
+    /// loads at the end of the last ([`Scene::from_str`] sets them).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub stages: Vec<Stage>,
     /// Horizontal pseudo-static (seismic) coefficient k_h: a body force
     /// `k_h gamma` in +x on every material with a unit weight (harmonic 1).
     #[serde(default, skip_serializing_if = "settings::is_zero")]
@@ -168,6 +176,11 @@ pub struct Scene {
     /// of the JSON).
     #[serde(skip)]
     pub force: bool,
+    /// The folder the run writes (not part of the JSON): its disk must
+    /// hold the estimated outputs ([`crate::run::output_bytes`]); `None`:
+    /// not checked.
+    #[serde(skip)]
+    pub output: Option<PathBuf>,
 }
 
 /// The highest harmonic a scene may ask for without `--force`: the
@@ -219,6 +232,7 @@ impl Scene {
             message: strip_location(&e),
             line: e.line(),
             column: e.column(),
+            overridden: false,
         };
         let mut de = serde_json::Deserializer::from_str(text);
         let mut scene: Scene = serde_path_to_error::deserialize(&mut de).map_err(|e| {
@@ -227,6 +241,13 @@ impl Scene {
         })?;
         de.end().map_err(|e| parse_error(".".into(), e))?;
         scene.path = path.to_path_buf();
+        if !scene.stages.is_empty() {
+            if !scene.loads.is_empty() {
+                return Err(scene.invalid("stages", "give either `loads` (one stage) or `stages`, not both"));
+            }
+            // What every load-based output reads: the loads at the end.
+            scene.loads = scene.legs().pop().map(|l| l.loads).unwrap_or_default();
+        }
         Ok(scene)
     }
 
@@ -255,6 +276,11 @@ impl Scene {
             Harmonics::Auto => self
                 .loads
                 .iter()
+                .chain(
+                    self.stages
+                        .iter()
+                        .flat_map(|s| s.loads.iter().chain(s.cyclic.iter().flat_map(|c| c.loads.iter()))),
+                )
                 .map(|l| l.max_harmonic())
                 .max()
                 .unwrap_or(0)

@@ -1,0 +1,305 @@
+//! A run in stages (`stages`): each leg ([`Scene::legs`]) raises the load
+//! from the totals the one before reached to its own, `F = F_start + lambda
+//! (F_end - F_start)`, stepped with the history law from the converged state
+//! there (released forces and committed joint history carried over); the
+//! run stops in the first leg that cannot reach its load, at its limit
+//! load factor.
+
+use super::factors::solve_loads;
+use super::measures::{face_motion, padded};
+use super::model::{iteration_settings, joint_laws};
+use super::nonlinear::Start;
+use crate::elements::JointSprings;
+use crate::error::SolverError;
+use crate::fourier::Sections;
+use crate::iteration::{IterationRecord, JointField, Outcome, StageEnd, StageStart};
+use crate::linear::Model;
+use crate::loads::{assemble_loads, load_resultants, HarmonicLoads, Resultants};
+use crate::results::{JointAreas, JointFieldFile, LoadPath, StageMark, StepMeasure};
+use crate::scene::{Leg, Load, Scene};
+use crate::solution::{Displacements, HarmonicDisplacement};
+
+/// `a x + b y`, harmonic by harmonic (same harmonics).
+fn combine_loads(a: f64, x: &[HarmonicLoads], b: f64, y: &[HarmonicLoads]) -> Vec<HarmonicLoads> {
+    let mix = |u: &[f64], v: &[f64]| u.iter().zip(v).map(|(p, q)| a * p + b * q).collect();
+    x.iter()
+        .zip(y)
+        .map(|(p, q)| HarmonicLoads {
+            m: p.m,
+            symmetric: mix(&p.symmetric, &q.symmetric),
+            antisymmetric: mix(&p.antisymmetric, &q.antisymmetric),
+        })
+        .collect()
+}
+
+/// `x - y`, harmonic by harmonic (same harmonics).
+fn difference(x: &Displacements, y: &Displacements) -> Displacements {
+    let minus = |u: &[f64], v: &[f64]| u.iter().zip(v).map(|(p, q)| p - q).collect();
+    Displacements {
+        harmonics: x
+            .harmonics
+            .iter()
+            .zip(&y.harmonics)
+            .map(|(p, q)| HarmonicDisplacement {
+                m: p.m,
+                symmetric: minus(&p.symmetric, &q.symmetric),
+                antisymmetric: minus(&p.antisymmetric, &q.antisymmetric),
+            })
+            .collect(),
+    }
+}
+
+/// The loads at the end of `leg`, harmonics 0..=`m_max`.
+fn leg_loads(scene: &Scene, model: &Model, leg: &Leg, m_max: u32) -> Result<Vec<HarmonicLoads>, SolverError> {
+    assemble_loads(&scene.stage_scene(leg.loads.clone()), &model.mesh, m_max)
+        .map_err(|e| SolverError::Scene(e.in_stage(leg.stage, "loads")))
+}
+
+/// The resultant of `loads` (force, moment about the origin).
+fn resultant(scene: &Scene, model: &Model, loads: Vec<Load>, m_max: u32) -> Result<Resultants, SolverError> {
+    let h = assemble_loads(&scene.stage_scene(loads), &model.mesh, m_max).map_err(SolverError::Scene)?;
+    Ok(load_resultants(&h, &model.mesh, 0.0))
+}
+
+/// The load of `face` along the direction of `first` (its first load):
+/// the force along the first's force, or the torque of a pure torque.
+fn along(first: &Resultants, r: &Resultants) -> f64 {
+    let norm = first.force.iter().map(|v| v * v).sum::<f64>().sqrt();
+    if norm > 0.0 {
+        first.force.iter().zip(&r.force).map(|(d, f)| d * f).sum::<f64>() / norm
+    } else {
+        r.moment[2] * first.moment[2].signum()
+    }
+}
+
+/// The work of the joints' slip from field `a` to field `b` (same pairs):
+/// `sum da (p_b . ds)` over the shear components, `ds = dd - dp / k` the
+/// plastic slip, at the traction the law returned to (as its return
+/// mapping: a point slips at its strength; the normal component does no
+/// plastic work).
+fn slip_work(a: &JointField, b: &JointField, springs: &[JointSprings]) -> f64 {
+    let n_p = b.points.len();
+    let mut work = 0.0;
+    for (s, w) in b.sections.weight.iter().enumerate() {
+        for (i, pt) in b.points.iter().enumerate() {
+            let k = s * n_p + i;
+            let sp = springs[pt.joint];
+            let (d0, d1, p0, p1) = (a.d[k], b.d[k], a.p[k], b.p[k]);
+            let mut dw = 0.0;
+            for (c, kc) in [(0, sp.k_xi), (2, sp.k_theta)] {
+                if kc > 0.0 {
+                    let ds = (d1[c] - d0[c]) - (p1[c] - p0[c]) / kc;
+                    dw += p1[c] * ds;
+                }
+            }
+            work += w * pt.point.area() * dw;
+        }
+    }
+    work
+}
+
+/// The loads applied at factor `lambda` of leg `k` (harmonics
+/// 0..=`m_max`): where a staged run stopped.
+pub(super) fn applied(
+    scene: &Scene,
+    model: &Model,
+    k: usize,
+    lambda: f64,
+    m_max: u32,
+) -> Result<Vec<HarmonicLoads>, SolverError> {
+    let legs = scene.legs();
+    let end = leg_loads(scene, model, &legs[k], m_max)?;
+    let start = match k {
+        0 => end
+            .iter()
+            .map(|h| HarmonicLoads::zeros(h.m, model.mesh.nodes.len()))
+            .collect(),
+        _ => leg_loads(scene, model, &legs[k - 1], m_max)?,
+    };
+    Ok(combine_loads(1.0 - lambda, &start, lambda, &end))
+}
+
+/// The staged solution with harmonics 0..=m on `sections`; the outcome's
+/// whole displacements up to harmonic `whole_up_to` (`None`: every one).
+pub(super) fn iterate_stages(
+    scene: &Scene,
+    start: Start<'_>,
+    m: u32,
+    whole_up_to: Option<u32>,
+    sections: &Sections,
+    mut progress: impl FnMut(&IterationRecord),
+) -> Result<(Outcome, Option<LoadPath>), SolverError> {
+    let Start {
+        problem,
+        loads: all,
+        initial,
+        ..
+    } = start;
+    let model = &problem.model;
+    let mesh = &model.mesh;
+    let n = mesh.nodes.len();
+    let m_all = all.iter().map(|h| h.m).max().unwrap_or(0);
+    let legs = scene.legs();
+    let joint_start = initial.map(|i| i.joint_start(sections.len()));
+    let laws = joint_laws(scene, model);
+    let settings = iteration_settings(scene);
+    let springs: Vec<_> = model.joints.iter().map(|j| j.springs).collect();
+    let member_bodies: Vec<usize> = scene
+        .outputs
+        .members
+        .iter()
+        .filter_map(|b| mesh.body(b))
+        .collect();
+    // Every face loaded in some leg, along the first load on it.
+    let mut faces: Vec<&Load> = Vec::new();
+    for l in legs.iter().flat_map(|leg| leg.loads.iter()) {
+        if !faces.iter().any(|f| f.on() == l.on()) {
+            faces.push(l);
+        }
+    }
+    let zeros: Vec<HarmonicLoads> = all.iter().map(|h| HarmonicLoads::zeros(h.m, n)).collect();
+    let firsts: Vec<Resultants> = faces
+        .iter()
+        .map(|&l| resultant(scene, model, vec![l.clone()], m_all))
+        .collect::<Result<_, _>>()?;
+    let on_face = |leg: Option<&Leg>, face: &str| -> Vec<Load> {
+        leg.map_or_else(Vec::new, |leg| {
+            leg.loads.iter().filter(|l| l.on() == face).cloned().collect()
+        })
+    };
+    let mut prev: Option<(Vec<HarmonicLoads>, Displacements, StageEnd)> = None;
+    let mut last_field: Option<JointField> = None;
+    let mut steps = Vec::new();
+    for (k, leg) in legs.iter().enumerate() {
+        let mark = StageMark {
+            leg: k,
+            stage: leg.name.clone(),
+            cycle: leg.cycle,
+            level: leg.level,
+        };
+        let total = leg_loads(scene, model, leg, m_all)?;
+        let u_total = solve_loads(model, &problem.factors, &total);
+        let (base, u_base) = match &prev {
+            Some((b, ub, _)) => (b.clone(), ub.clone()),
+            None => (zeros.clone(), difference(&u_total, &u_total)),
+        };
+        let step_all = combine_loads(1.0, &total, -1.0, &base);
+        let u_step = difference(&u_total, &u_base);
+        // Each face's load along its first load, at the leg's start and end.
+        let face_loads: Vec<(f64, f64)> = faces
+            .iter()
+            .zip(&firsts)
+            .map(|(l, first)| {
+                let r0 = resultant(
+                    scene,
+                    model,
+                    on_face(k.checked_sub(1).map(|j| &legs[j]), l.on()),
+                    m_all,
+                )?;
+                let r1 = resultant(scene, model, on_face(Some(leg), l.on()), m_all)?;
+                Ok((along(first, &r0), along(first, &r1)))
+            })
+            .collect::<Result<_, SolverError>>()?;
+        let within =
+            |v: &[HarmonicLoads]| -> Vec<HarmonicLoads> { v.iter().filter(|h| h.m <= m).cloned().collect() };
+        let step = within(&step_all);
+        let iteration = crate::iteration::Problem {
+            model,
+            factors: &problem.factors,
+            loads: &step,
+            laws: &laws,
+            sections,
+            elastic: Some(&u_step),
+            whole_up_to,
+            from: prev.as_ref().map(|(b, ub, end)| StageStart {
+                loads: b,
+                elastic: ub,
+                end,
+            }),
+        };
+        let observe = |lambda: f64, u: &Displacements, field: &JointField| {
+            let d = padded(u, all);
+            let file = JointFieldFile::new(mesh, &springs, field);
+            let at = combine_loads(1.0, &base, lambda, &step_all);
+            // From the unloaded state (the initial traction, no motion)
+            // before the first step.
+            let start = || JointField {
+                d: vec![[0.0; 3]; field.d.len()],
+                p: joint_start
+                    .as_ref()
+                    .filter(|s| s.traction.len() == field.p.len())
+                    .map_or_else(|| vec![[0.0; 3]; field.p.len()], |s| s.traction.clone()),
+                ..field.clone()
+            };
+            let dissipated = slip_work(last_field.get_or_insert_with(start), field, &springs);
+            last_field = Some(field.clone());
+            StepMeasure {
+                faces: faces
+                    .iter()
+                    .zip(&face_loads)
+                    .filter_map(|(l, (a0, a1))| {
+                        face_motion(mesh, l, &d).map(|mut f| {
+                            f.applied = Some(a0 + lambda * (a1 - a0));
+                            f
+                        })
+                    })
+                    .collect(),
+                joints: mesh
+                    .joints
+                    .iter()
+                    .map(|j| {
+                        let (open, slip, stick) = file.state_areas(&j.name);
+                        JointAreas {
+                            joint: j.name.clone(),
+                            open,
+                            slip,
+                            stick,
+                        }
+                    })
+                    .collect(),
+                members: member_bodies
+                    .iter()
+                    .map(|&b| crate::members::member_forces(scene, model, &at, 1.0, &d, Some(field), b))
+                    .collect(),
+                stage: Some(mark.clone()),
+                dissipated: Some(dissipated),
+            }
+        };
+        let solved = crate::iteration::solve(
+            &iteration,
+            &settings,
+            joint_start.as_ref(),
+            leg.loading.into(),
+            observe,
+            &mut progress,
+        )?;
+        let stepped = solved.stepped.ok_or_else(|| {
+            SolverError::Solve(crate::linear::SolveError::Input(format!(
+                "{}: stages are stepped",
+                leg.label()
+            )))
+        })?;
+        steps.extend(stepped.steps);
+        let last = k + 1 == legs.len();
+        if stepped.limit.is_some() || last {
+            let stopped = stepped.limit.is_some().then_some(mark);
+            let path = LoadPath {
+                steps,
+                limit: stepped.limit,
+                stopped_in: stopped,
+            };
+            return Ok((solved.outcome, Some(path)));
+        }
+        let end = solved.end.ok_or_else(|| {
+            SolverError::Solve(crate::linear::SolveError::Input(format!(
+                "{}: no state to go on from",
+                leg.label()
+            )))
+        })?;
+        prev = Some((total, u_total, end));
+    }
+    Err(SolverError::Solve(crate::linear::SolveError::Input(format!(
+        "{}: `stages` gives no load",
+        scene.path.display()
+    ))))
+}
