@@ -7,14 +7,14 @@ use crate::{csv_out, plots};
 use axijoint_solver::results::LoadPath;
 use axijoint_solver::scene::Load;
 
-/// The unit of each loaded face's applied load along its first load (in
+/// The unit of each loaded face's applied load along its direction (in
 /// the order of the steps' faces): a force, or a moment for a pure torque.
 fn applied_units(ctx: &Ctx, path: &LoadPath) -> Vec<String> {
     let (force, length) = (&ctx.scene.units.force, ctx.length);
     let Some(first) = path.steps.first() else {
         return Vec::new();
     };
-    let loads: Vec<Load> = ctx.scene.legs().into_iter().flat_map(|l| l.loads).collect();
+    let loads: Vec<Load> = ctx.scene.staged_faces();
     first
         .observed
         .faces

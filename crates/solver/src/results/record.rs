@@ -208,8 +208,9 @@ pub struct FaceMotion {
     /// for a pure torque, else the largest component of `mean`.
     pub along: f64,
     /// With stages: the load on the face at the step along the same
-    /// direction (the force along the first load's force, or the torque of
-    /// a pure torque): the ordinate of a hysteresis loop.
+    /// direction ([`crate::scene::Scene::staged_faces`]: the force along
+    /// that load's force, or the torque of a pure torque): the ordinate of
+    /// a hysteresis loop.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub applied: Option<f64>,
 }

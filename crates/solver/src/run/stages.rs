@@ -150,17 +150,11 @@ pub(super) fn iterate_stages(
         .iter()
         .filter_map(|b| mesh.body(b))
         .collect();
-    // Every face loaded in some leg, along the first load on it.
-    let mut faces: Vec<&Load> = Vec::new();
-    for l in legs.iter().flat_map(|leg| leg.loads.iter()) {
-        if !faces.iter().any(|f| f.on() == l.on()) {
-            faces.push(l);
-        }
-    }
+    let faces = scene.staged_faces();
     let zeros: Vec<HarmonicLoads> = all.iter().map(|h| HarmonicLoads::zeros(h.m, n)).collect();
     let firsts: Vec<Resultants> = faces
         .iter()
-        .map(|&l| resultant(scene, model, vec![l.clone()], m_all))
+        .map(|l| resultant(scene, model, vec![l.clone()], m_all))
         .collect::<Result<_, _>>()?;
     let on_face = |leg: Option<&Leg>, face: &str| -> Vec<Load> {
         leg.map_or_else(Vec::new, |leg| {
@@ -185,7 +179,7 @@ pub(super) fn iterate_stages(
         };
         let step_all = combine_loads(1.0, &total, -1.0, &base);
         let u_step = difference(&u_total, &u_base);
-        // Each face's load along its first load, at the leg's start and end.
+        // Each face's load along its direction, at the leg's start and end.
         let face_loads: Vec<(f64, f64)> = faces
             .iter()
             .zip(&firsts)

@@ -112,6 +112,23 @@ impl Scene {
         out
     }
 
+    /// Each face loaded in some leg, with the load its motion and applied
+    /// load are measured along: its first cycling load, else its first.
+    pub fn staged_faces(&self) -> Vec<Load> {
+        let mut faces: Vec<Load> = Vec::new();
+        let cycling = self
+            .stages
+            .iter()
+            .flat_map(|s| s.cyclic.iter().flat_map(|c| c.loads.iter()));
+        let all = self.stages.iter().flat_map(|s| s.loads.iter());
+        for l in cycling.chain(all) {
+            if !faces.iter().any(|f| f.on() == l.on()) {
+                faces.push(l.clone());
+            }
+        }
+        faces
+    }
+
     /// The scene with its loads at the end of stage `k`: the stage's loads
     /// in place of `loads`, no stages (for messages, keys as `loads[i]`).
     pub(crate) fn stage_scene(&self, loads: Vec<Load>) -> Scene {
