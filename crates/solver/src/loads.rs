@@ -104,25 +104,85 @@ pub struct HarmonicLoads {
     pub symmetric: Vec<f64>,
     /// Antisymmetric family.
     pub antisymmetric: Vec<f64>,
+    /// Prescribed displacements of faces moved by `motion` loads, if any.
+    pub prescribed: Option<Box<Prescribed>>,
+}
+
+/// The prescribed displacements of one harmonic (faces moved by `motion`
+/// loads, held in the model) and the forces equivalent to them on the
+/// free DOFs: a solve of `f + equivalent` plus `displacement` is the
+/// solution with the faces moved.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Prescribed {
+    /// Node-DOF displacements per family (symmetric, antisymmetric).
+    pub displacement: [Vec<f64>; 2],
+    /// `-K_m u_s` per family (zero at held DOFs).
+    pub equivalent: [Vec<f64>; 2],
 }
 
 impl HarmonicLoads {
     /// The loads times `lambda`.
     pub fn scaled(&self, lambda: f64) -> HarmonicLoads {
-        let times = |v: &[f64]| v.iter().map(|a| lambda * a).collect();
-        HarmonicLoads {
-            m: self.m,
-            symmetric: times(&self.symmetric),
-            antisymmetric: times(&self.antisymmetric),
+        let mut out = HarmonicLoads::zeros(self.m, self.symmetric.len() / DOF_PER_NODE);
+        out.add(lambda, self);
+        out
+    }
+
+    /// `self += a other` (same harmonic and nodes).
+    pub fn add(&mut self, a: f64, other: &HarmonicLoads) {
+        let axpy = |x: &mut [f64], y: &[f64]| x.iter_mut().zip(y).for_each(|(p, q)| *p += a * q);
+        axpy(&mut self.symmetric, &other.symmetric);
+        axpy(&mut self.antisymmetric, &other.antisymmetric);
+        if let Some(o) = &other.prescribed {
+            let n = self.symmetric.len();
+            let p = self.prescribed.get_or_insert_with(|| {
+                Box::new(Prescribed {
+                    displacement: [vec![0.0; n], vec![0.0; n]],
+                    equivalent: [vec![0.0; n], vec![0.0; n]],
+                })
+            });
+            for k in 0..2 {
+                axpy(&mut p.displacement[k], &o.displacement[k]);
+                axpy(&mut p.equivalent[k], &o.equivalent[k]);
+            }
         }
     }
 
-    /// Whether any load component of this harmonic is non-zero.
+    /// The right-hand side of family `k` (0 symmetric, 1 antisymmetric):
+    /// the forces and those equivalent to the prescribed displacements.
+    pub fn rhs(&self, k: usize) -> std::borrow::Cow<'_, [f64]> {
+        let f = if k == 0 {
+            &self.symmetric
+        } else {
+            &self.antisymmetric
+        };
+        match &self.prescribed {
+            Some(p) => std::borrow::Cow::Owned(f.iter().zip(&p.equivalent[k]).map(|(a, b)| a + b).collect()),
+            None => std::borrow::Cow::Borrowed(f),
+        }
+    }
+
+    /// Adds the prescribed displacements of family `k` to a solution `u`
+    /// of [`HarmonicLoads::rhs`] (zero at held DOFs).
+    pub fn add_prescribed(&self, k: usize, u: &mut [f64]) {
+        if let Some(p) = &self.prescribed {
+            u.iter_mut().zip(&p.displacement[k]).for_each(|(a, b)| *a += b);
+        }
+    }
+
+    /// Whether any load component of this harmonic is non-zero (forces or
+    /// prescribed displacements).
     pub fn is_loaded(&self) -> bool {
-        self.symmetric
-            .iter()
-            .chain(&self.antisymmetric)
-            .any(|&v| v != 0.0)
+        let moved = self
+            .prescribed
+            .as_ref()
+            .is_some_and(|p| p.displacement.iter().flatten().any(|&v| v != 0.0));
+        moved
+            || self
+                .symmetric
+                .iter()
+                .chain(&self.antisymmetric)
+                .any(|&v| v != 0.0)
     }
 
     /// No load on `n_nodes` nodes.
@@ -131,6 +191,7 @@ impl HarmonicLoads {
             m,
             symmetric: vec![0.0; DOF_PER_NODE * n_nodes],
             antisymmetric: vec![0.0; DOF_PER_NODE * n_nodes],
+            prescribed: None,
         }
     }
 
@@ -300,6 +361,7 @@ pub fn assemble_loads(scene: &Scene, mesh: &Mesh, m_max: u32) -> Result<Vec<Harm
             let k = match load {
                 Load::Traction(_) | Load::Ring(_) => "harmonic",
                 Load::Resultant(_) | Load::Point(_) => "force",
+                Load::Motion(_) => "displacement",
             };
             return Err(invalid(
                 key(k),
@@ -367,6 +429,8 @@ pub fn assemble_loads(scene: &Scene, mesh: &Mesh, m_max: u32) -> Result<Vec<Harm
                     }
                 }
             }
+            // Prescribed displacements: no force here ([`add_motions`]).
+            Load::Motion(_) => {}
         }
     }
     add_body_forces(scene, mesh, !scene.has_initial_phase(), &mut out)?;

@@ -10,6 +10,7 @@
 //! | path | dead load then lateral load against both at once: equal where nothing slips, different where the shaft slips | `1e-6` (epsilon; measured 1e-8); > 1 % (measured 21 %) |
 //! | torsion reversed | a block twisted on a cohesive joint between +-0.8 T_max: every step's twist against Masing from the virgin partial-slip curve | 2 % of the peak twist (measured 0.04 %) |
 //! | shakedown | twisted to 0.9 T_max, then cycled between 0.5 and 0.9 T_max: no slip work after the first loading | `1e-9` of the first |
+//! | displacement control | a rigid block's top moved sideways between +-3 Hs / K on a cohesive joint: the force follows the parallelogram (K du, capped at +-Hs); each cycle's slip work `4 Hs (u_max - Hs / K)`; the moved face where it was sent, its reaction Hs | 1 % of Hs (measured 0.03 %); 1 % (0.007 %); 1e-12; 1 % |
 //! | cycles | a cyclic stage runs its levels `cycles` times; every peak and trough as the first (Masing) | `2e-4 w_max` (measured 4.7e-5 per cycle) |
 //!
 //! The rod: `geo/pile_soil.geo` with `a = 0.1` (L / a = 100: a rod), E =
@@ -370,6 +371,32 @@ fn mistakes_in_stages_are_refused_naming_the_stage() {
             base(json!([{"name": "a", "loads": [{"type": "resultant", "on": "pile_head", "force": [0, 0]}]}]), &[]),
             "stages[0].loads[0].force",
         ),
+        (
+            base(json!([{"name": "a", "loads": [{"type": "motion", "on": "soil_outer", "displacement": [0, 0, 0.01]}]}]), &[]),
+            "supports[0].on: 'soil_outer' is moved by a `motion` load",
+        ),
+        (
+            base(
+                json!([
+                    {"name": "a", "loads": [{"type": "motion", "on": "pile_head", "displacement": [0, 0, 0.001]}]},
+                    {"name": "b", "loads": pull(0.01)}
+                ]),
+                &[],
+            ),
+            "stages[1].loads[0].on: 'pile_head' is moved by a `motion` load elsewhere",
+        ),
+        (
+            base(json!([{"name": "a", "loads": [{"type": "motion", "on": "pile_head", "force": [0, 0, 1]}]}]), &[]),
+            "key `force` does not belong to a motion load (it takes: type, on, displacement, rotation, at_z)",
+        ),
+        (
+            base(json!([{"name": "a", "loads": [{"type": "motion", "on": "pile_head", "displacement": [0, 1]}]}]), &[]),
+            "stages[0].loads[0].displacement: 2 numbers given, give three: [ux, uy, uz]",
+        ),
+        (
+            base(json!([{"name": "a", "loads": [{"type": "motion", "on": "pile_head", "displacement": [0.001, 0, 0]}]}]), &[]),
+            "the load has a part of harmonic 1 but `harmonics` is 0",
+        ),
     ];
     for (message, expected) in cases {
         assert!(message.contains(expected), "expected '{expected}' in: {message}");
@@ -486,4 +513,82 @@ fn a_block_twisted_past_first_slip_then_cycled_below_shakes_down() {
     println!("slip work: first loading {first:.4e}, the cycles after {later:.2e}");
     assert!(first > 0.0);
     assert!(later < 1e-9 * first, "{later} after {first}");
+}
+
+/// geo/block_torsion.json's block on its base, the contact cohesive
+/// (C = 0.1, phi = 0, a tensile strength that round-off never reaches),
+/// its top face moved sideways by `stages`.
+fn pushed(stages: Value) -> Scene {
+    let text = std::fs::read_to_string(geo("block_torsion.json")).unwrap();
+    let mut s: Value = serde_json::from_str(&text).unwrap();
+    s.as_object_mut().unwrap().remove("loads");
+    s["joints"]["contact"]["law"]["tensile_strength"] = json!(10.0);
+    s["harmonics"] = json!(1);
+    s["solver"] = json!({"method": "newton", "epsilon": 1e-8});
+    s["stages"] = stages;
+    Scene::from_str(&s.to_string(), geo("block_torsion.json")).unwrap()
+}
+
+fn push(u: f64) -> Value {
+    json!([{"type": "motion", "on": "block_top", "displacement": [u, 0, 0]}])
+}
+
+#[test]
+fn a_block_pushed_back_and_forth_past_sliding_draws_the_rectangular_loop() {
+    // Rigid block on a joint of stiffness k over the area pi a^2 (K = k pi
+    // a^2), strength C: sliding at Hs = C pi a^2 once u > Hs / K; moved
+    // between +-u_max the force follows the parallelogram, and each cycle
+    // dissipates 4 Hs (u_max - Hs / K).
+    let (a, c, k) = (0.5f64, 0.1, 100.0);
+    let (hs, stiffness) = (c * PI * a * a, k * PI * a * a);
+    let u_max = 3.0 * hs / stiffness;
+    let scene = pushed(json!([
+        {"name": "push", "loads": push(u_max), "loading": {"steps": 6}},
+        {"name": "cycles", "cyclic": {"loads": push(u_max), "levels": [-1, 1], "cycles": 2}, "loading": {"steps": 12}}
+    ]));
+    let run = solve(&scene);
+    let path = run.load_path.as_ref().unwrap();
+    assert!(path.limit.is_none(), "{:?}", path.limit);
+    let mut worst = 0.0f64;
+    let mut last_u = 0.0;
+    for st in &path.steps {
+        let face = &st.observed.faces[0];
+        let (u, h) = (face.mean[0], face.applied.unwrap());
+        // The parallelogram: the force follows K du from the last reversal,
+        // capped at +-Hs.
+        let moving_up = u >= last_u;
+        let expected = if st.observed.stage.as_ref().unwrap().stage == "push" {
+            (stiffness * u).min(hs)
+        } else if moving_up {
+            (-hs + stiffness * (u + u_max)).min(hs)
+        } else {
+            (hs - stiffness * (u_max - u)).max(-hs)
+        };
+        worst = worst.max((h - expected).abs() / hs);
+        last_u = u;
+    }
+    println!("worst force error {:.3} % of Hs", 100.0 * worst);
+    assert!(worst < 0.01, "{worst}");
+    let stages = |cycle: u32| -> f64 {
+        path.steps
+            .iter()
+            .filter(|s| s.observed.stage.as_ref().is_some_and(|m| m.cycle == cycle))
+            .map(|s| s.observed.dissipated.unwrap())
+            .sum()
+    };
+    let per_cycle = 4.0 * hs * (u_max - hs / stiffness);
+    for cycle in [1, 2] {
+        let w = stages(cycle);
+        println!("cycle {cycle}: slip work {w:.5e}, closed form {per_cycle:.5e}");
+        assert!((w / per_cycle - 1.0).abs() < 0.01, "cycle {cycle}: {w}");
+    }
+    // The moved face is where it was sent, and its reaction is reported.
+    let top = face_displacement(&run.problem.model.mesh, "block_top", &run.displacements).unwrap();
+    assert!((top[0] - u_max).abs() < 1e-12 * u_max, "{top:?}");
+    let r = run
+        .reactions
+        .iter()
+        .find(|r| r.on == "block_top")
+        .expect("the moved face's reaction");
+    assert!((r.force[0] / hs - 1.0).abs() < 0.01, "{:?}", r.force);
 }

@@ -158,13 +158,7 @@ impl<'a> Setup<'a> {
     pub(super) fn load_at(&self, h: usize, lambda: f64) -> HarmonicLoads {
         let mut f = self.loads[h].scaled(lambda);
         if let Some((base, _)) = &self.base {
-            let b = &base[h];
-            for (a, v) in f.symmetric.iter_mut().zip(&b.symmetric) {
-                *a += v;
-            }
-            for (a, v) in f.antisymmetric.iter_mut().zip(&b.antisymmetric) {
-                *a += v;
-            }
+            f.add(1.0, &base[h]);
         }
         f
     }
@@ -444,10 +438,16 @@ fn elastic_amplitudes(
                     u.push(d.antisymmetric.clone());
                 }
                 u
-            } else if both {
-                model.solve(factor, &[&f.symmetric, &f.antisymmetric])
             } else {
-                model.solve(factor, &[&f.symmetric])
+                let mut u = if both {
+                    model.solve(factor, &[&f.rhs(0), &f.rhs(1)])
+                } else {
+                    model.solve(factor, &[&f.rhs(0)])
+                };
+                for (k, uk) in u.iter_mut().enumerate() {
+                    f.add_prescribed(k, uk);
+                }
+                u
             };
             let pick = |k: usize| -> Vec<f64> {
                 let mut out = vec![0.0; 3 * joint_nodes.len()];

@@ -157,21 +157,24 @@ impl<'s, 'a> Sweep<'s, 'a> {
                 let h = wanted[i];
                 let (factor, g) = (setup.factor_of[h], &released[h]);
                 let f = setup.load_at(h, self.state.lambda);
-                let mut loads = [f.symmetric, f.antisymmetric];
+                let mut loads = [f.rhs(0).into_owned(), f.rhs(1).into_owned()];
                 for (vec, gk) in loads.iter_mut().zip(g) {
                     setup.add_at_joint_nodes(gk, vec);
                 }
                 if setup.transfer.both[h] {
                     let mut u = setup.model.solve(factor, &[&loads[0], &loads[1]]);
-                    let antisymmetric = u.pop().unwrap_or_default();
-                    let symmetric = u.pop().unwrap_or_default();
+                    let mut antisymmetric = u.pop().unwrap_or_default();
+                    let mut symmetric = u.pop().unwrap_or_default();
+                    f.add_prescribed(0, &mut symmetric);
+                    f.add_prescribed(1, &mut antisymmetric);
                     HarmonicDisplacement {
                         m: f.m,
                         symmetric,
                         antisymmetric,
                     }
                 } else {
-                    let symmetric = setup.model.solve(factor, &[&loads[0]]).pop().unwrap_or_default();
+                    let mut symmetric = setup.model.solve(factor, &[&loads[0]]).pop().unwrap_or_default();
+                    f.add_prescribed(0, &mut symmetric);
                     HarmonicDisplacement {
                         m: f.m,
                         symmetric,
@@ -200,8 +203,9 @@ impl<'s, 'a> Sweep<'s, 'a> {
         setup.transfer.analyse(x, &mut released);
         let mut size = 0.0;
         let mut sums = Vec::new();
+        // (With the forces equivalent to prescribed displacements.)
         let magnitude =
-            |f: &HarmonicLoads| -> f64 { f.symmetric.iter().chain(&f.antisymmetric).map(|v| v.abs()).sum() };
+            |f: &HarmonicLoads| -> f64 { f.rhs(0).iter().chain(f.rhs(1).iter()).map(|v| v.abs()).sum() };
         // A stage that unloads is measured against its largest load.
         let mut stage_size = 0.0;
         for (h, load) in setup.loads.iter().enumerate() {
@@ -218,6 +222,8 @@ impl<'s, 'a> Sweep<'s, 'a> {
                 continue;
             };
             let mut v = HarmonicLoads::zeros(load.m, n);
+            // The applied forces (not those equivalent to prescribed
+            // displacements: the held faces' K u includes them).
             let families = [
                 (&d.symmetric, f.symmetric, &mut v.symmetric),
                 (&d.antisymmetric, f.antisymmetric, &mut v.antisymmetric),

@@ -64,9 +64,11 @@ pub(super) fn elastic(
 ) -> Result<Elastic, SolverError> {
     let (mesh, _) = mesh_scene(scene, keep_msh)?;
     let m_max = scene.harmonics();
-    let loads = assemble_loads(scene, &mesh, m_max)?;
+    // Refused before the model is built: a load on a missing name.
+    assemble_loads(scene, &mesh, m_max)?;
     let t0 = Instant::now();
     let model = build_model(scene, mesh)?;
+    let loads = super::motion::loads_on(scene, &model, m_max)?;
     let setup = t0.elapsed().as_secs_f64();
     let wanted: Vec<u32> = loads
         .iter()

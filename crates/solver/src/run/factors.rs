@@ -144,9 +144,11 @@ pub(super) fn solve_harmonic(
 ) -> HarmonicDisplacement {
     match factor {
         Some(f) if h.is_loaded() => {
-            let mut u = model.solve(f, &[&h.symmetric, &h.antisymmetric]);
-            let antisymmetric = u.pop().unwrap_or_default();
-            let symmetric = u.pop().unwrap_or_default();
+            let mut u = model.solve(f, &[&h.rhs(0), &h.rhs(1)]);
+            let mut antisymmetric = u.pop().unwrap_or_default();
+            let mut symmetric = u.pop().unwrap_or_default();
+            h.add_prescribed(0, &mut symmetric);
+            h.add_prescribed(1, &mut antisymmetric);
             HarmonicDisplacement {
                 m: h.m,
                 symmetric,

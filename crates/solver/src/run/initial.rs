@@ -59,6 +59,7 @@ pub fn initial_phase(
         m: 0,
         symmetric: il.load,
         antisymmetric: vec![0.0; 3 * n],
+        prescribed: None,
     }];
     let n_points = il.traction.len();
     let (displacements, iterations, traction, debonded) = if !scene.has_nonlinear_joints()

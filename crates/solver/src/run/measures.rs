@@ -48,7 +48,7 @@ pub fn reactions(
         .collect();
     let mut claimed = vec![false; 3 * n];
     scene
-        .supports
+        .all_supports()
         .iter()
         .map(|s| {
             let comps = s.fix.components();
@@ -256,6 +256,8 @@ pub(super) fn face_motion(mesh: &Mesh, load: &crate::scene::Load, u: &Displaceme
     let rotation = if den > 0.0 { num / den } else { 0.0 };
     let (f, torque) = match load {
         crate::scene::Load::Resultant(l) => (l.force, l.torque),
+        // Along the motion: its translation, else its turn about the axis.
+        crate::scene::Load::Motion(l) => (l.displacement, l.rotation[2]),
         _ => ([0.0; 3], 0.0),
     };
     let f_norm = (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]).sqrt();

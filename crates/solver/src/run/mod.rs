@@ -21,6 +21,7 @@ mod header;
 mod initial;
 mod measures;
 mod model;
+mod motion;
 mod nonlinear;
 mod plausible;
 mod stages;

@@ -24,7 +24,7 @@ pub fn mesh_scene(scene: &Scene, keep_msh: Option<&Path>) -> Result<(Mesh, Valid
 /// Support flags per node DOF (`3 * node + component`).
 pub fn support_flags(scene: &Scene, mesh: &Mesh) -> Vec<bool> {
     let mut fixed = vec![false; 3 * mesh.nodes.len()];
-    for s in &scene.supports {
+    for s in &scene.all_supports() {
         let comps = s.fix.components();
         for n in support_nodes(mesh, &s.on) {
             for c in 0..3 {

@@ -21,13 +21,12 @@ use crate::solution::{Displacements, HarmonicDisplacement};
 
 /// `a x + b y`, harmonic by harmonic (same harmonics).
 fn combine_loads(a: f64, x: &[HarmonicLoads], b: f64, y: &[HarmonicLoads]) -> Vec<HarmonicLoads> {
-    let mix = |u: &[f64], v: &[f64]| u.iter().zip(v).map(|(p, q)| a * p + b * q).collect();
     x.iter()
         .zip(y)
-        .map(|(p, q)| HarmonicLoads {
-            m: p.m,
-            symmetric: mix(&p.symmetric, &q.symmetric),
-            antisymmetric: mix(&p.antisymmetric, &q.antisymmetric),
+        .map(|(p, q)| {
+            let mut out = p.scaled(a);
+            out.add(b, q);
+            out
         })
         .collect()
 }
@@ -51,8 +50,10 @@ fn difference(x: &Displacements, y: &Displacements) -> Displacements {
 
 /// The loads at the end of `leg`, harmonics 0..=`m_max`.
 fn leg_loads(scene: &Scene, model: &Model, leg: &Leg, m_max: u32) -> Result<Vec<HarmonicLoads>, SolverError> {
-    assemble_loads(&scene.stage_scene(leg.loads.clone()), &model.mesh, m_max)
-        .map_err(|e| SolverError::Scene(e.in_stage(leg.stage, "loads")))
+    super::motion::loads_on(&scene.stage_scene(leg.loads.clone()), model, m_max).map_err(|e| match e {
+        SolverError::Scene(e) => SolverError::Scene(e.in_stage(leg.stage, "loads")),
+        e => e,
+    })
 }
 
 /// The resultant of `loads` (force, moment about the origin).
@@ -152,9 +153,17 @@ pub(super) fn iterate_stages(
         .collect();
     let faces = scene.staged_faces();
     let zeros: Vec<HarmonicLoads> = all.iter().map(|h| HarmonicLoads::zeros(h.m, n)).collect();
+    // The direction of each face: its load's resultant, or a moved face's
+    // translation (else its turn about the axis).
     let firsts: Vec<Resultants> = faces
         .iter()
-        .map(|l| resultant(scene, model, vec![l.clone()], m_all))
+        .map(|l| match l {
+            Load::Motion(mo) => Ok(Resultants {
+                force: mo.displacement,
+                moment: mo.rotation,
+            }),
+            _ => resultant(scene, model, vec![l.clone()], m_all),
+        })
         .collect::<Result<_, _>>()?;
     let on_face = |leg: Option<&Leg>, face: &str| -> Vec<Load> {
         leg.map_or_else(Vec::new, |leg| {
@@ -226,14 +235,30 @@ pub(super) fn iterate_stages(
                 ..field.clone()
             };
             let dissipated = slip_work(last_field.get_or_insert_with(start), field, &springs);
+            // A moved face takes its reaction.
+            let held = if faces.iter().any(|l| matches!(l, Load::Motion(_))) {
+                super::measures::reactions(scene, model, &at, &d)
+            } else {
+                Vec::new()
+            };
             last_field = Some(field.clone());
             StepMeasure {
                 faces: faces
                     .iter()
                     .zip(&face_loads)
-                    .filter_map(|(l, (a0, a1))| {
+                    .zip(&firsts)
+                    .filter_map(|((l, (a0, a1)), first)| {
                         face_motion(mesh, l, &d).map(|mut f| {
-                            f.applied = Some(a0 + lambda * (a1 - a0));
+                            f.applied = Some(match held.iter().find(|r| r.on == f.on) {
+                                Some(r) if matches!(l, Load::Motion(_)) => along(
+                                    first,
+                                    &Resultants {
+                                        force: r.force,
+                                        moment: r.moment,
+                                    },
+                                ),
+                                _ => a0 + lambda * (a1 - a0),
+                            });
                             f
                         })
                     })

@@ -115,6 +115,7 @@ impl Scene {
         }
         self.check_load_cases()?;
         self.check_stages()?;
+        self.check_motions()?;
         if let Some(sections) = &self.sections {
             let t = &sections.theta_deg;
             match sections.count {
@@ -391,6 +392,7 @@ impl Scene {
         let harmonic_key = match load {
             Load::Traction(_) | Load::Ring(_) => "harmonic",
             Load::Resultant(_) | Load::Point(_) => "force",
+            Load::Motion(_) => "displacement",
         };
         if matches!(self.harmonics, crate::scene::Harmonics::Fixed(top) if m > top) {
             return Err(self.invalid(
@@ -425,6 +427,11 @@ impl Scene {
                 }
             }
             Load::Point(l) => self.finite(&key("force"), &l.force)?,
+            Load::Motion(l) => {
+                self.finite(&key("displacement"), &l.displacement)?;
+                self.finite(&key("rotation"), &l.rotation)?;
+                self.finite(&key("at_z"), l.at_z.as_slice())?;
+            }
         }
         if load.on().is_empty() {
             return Err(self.invalid(key("on"), "empty name"));
@@ -665,6 +672,9 @@ impl Scene {
                     if let Some((r, _)) = point_locations(mesh, nodes).into_iter().find(|(r, _)| *r > tol) {
                         return Err(self.invalid(key, point_off_axis(r)));
                     }
+                }
+                Load::Motion(l) => {
+                    on_edges(self.curve(mesh, &l.on, &key)?, &key)?;
                 }
             }
         }

@@ -144,6 +144,22 @@ pub struct ResultantLoad {
     pub moment: [f64; 2],
 }
 
+/// A face moved as a rigid body (prescribed displacements): every node of
+/// the curve gets `displacement + rotation x (x - (0, 0, z_c))`, `z_c` the
+/// face's mean z or `at_z`. The face is held in every component; its
+/// reaction is the load it takes. Harmonics 0 and 1 only.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MotionLoad {
+    /// Physical curve.
+    pub on: String,
+    /// `(ux, uy, uz)` (length).
+    pub displacement: [f64; 3],
+    /// `(rx, ry, rz)` (radians, small).
+    pub rotation: [f64; 3],
+    /// z of the centre of rotation on the axis; `None`: the face's mean z.
+    pub at_z: Option<f64>,
+}
+
 /// A ring line load at a physical point (force per unit circumferential
 /// length), one harmonic and family.
 #[derive(Clone, Debug, PartialEq)]
@@ -179,6 +195,8 @@ pub enum Load {
     Ring(RingLoad),
     /// `"type": "point"`.
     Point(PointLoad),
+    /// `"type": "motion"`: prescribed displacements of a face.
+    Motion(MotionLoad),
 }
 
 impl Load {
@@ -189,6 +207,7 @@ impl Load {
             Load::Resultant(l) => &l.on,
             Load::Ring(l) => &l.on,
             Load::Point(l) => &l.on,
+            Load::Motion(l) => &l.on,
         }
     }
 
@@ -210,6 +229,10 @@ impl Load {
             }
             Load::Ring(l) => l.f.iter_mut().for_each(|v| *v *= f),
             Load::Point(l) => l.force.iter_mut().for_each(|v| *v *= f),
+            Load::Motion(l) => {
+                l.displacement.iter_mut().for_each(|v| *v *= f);
+                l.rotation.iter_mut().for_each(|v| *v *= f);
+            }
         }
         out
     }
@@ -225,6 +248,11 @@ impl Load {
                 u32::from(lateral || bending)
             }
             Load::Point(l) => u32::from(l.force[0] != 0.0 || l.force[1] != 0.0),
+            Load::Motion(l) => {
+                let [ux, uy, _] = l.displacement;
+                let [rx, ry, _] = l.rotation;
+                u32::from(ux != 0.0 || uy != 0.0 || rx != 0.0 || ry != 0.0)
+            }
         }
     }
 }
@@ -237,6 +265,7 @@ enum LoadType {
     Resultant,
     Ring,
     Point,
+    Motion,
 }
 
 /// A load as written: one flat object for every type (so that serde's key
@@ -281,6 +310,18 @@ struct LoadSpec {
     f_z: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     f_theta: Option<f64>,
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        deserialize_with = "displacement_list"
+    )]
+    displacement: Option<[f64; 3]>,
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        deserialize_with = "rotation_list"
+    )]
+    rotation: Option<[f64; 3]>,
 }
 
 /// A list of exactly `N` numbers, its length said in words otherwise.
@@ -296,6 +337,14 @@ fn list<'de, D: serde::Deserializer<'de>, const N: usize>(
 
 fn force_list<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<[f64; 3]>, D::Error> {
     list(d, "three: [Fx, Fy, Fz] (Cartesian, x at theta = 0)")
+}
+
+fn displacement_list<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<[f64; 3]>, D::Error> {
+    list(d, "three: [ux, uy, uz] (Cartesian, x at theta = 0)")
+}
+
+fn rotation_list<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<[f64; 3]>, D::Error> {
+    list(d, "three: [rx, ry, rz] (radians about x, y and the axis)")
 }
 
 fn moment_list<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<[f64; 2]>, D::Error> {
@@ -318,6 +367,8 @@ impl LoadSpec {
             ("f_r", self.f_r.is_some()),
             ("f_z", self.f_z.is_some()),
             ("f_theta", self.f_theta.is_some()),
+            ("displacement", self.displacement.is_some()),
+            ("rotation", self.rotation.is_some()),
         ]
         .into_iter()
         .filter(|(_, p)| *p)
@@ -331,12 +382,13 @@ impl TryFrom<LoadSpec> for Load {
     fn try_from(s: LoadSpec) -> Result<Self, String> {
         let kind = s
             .kind
-            .ok_or("missing field `type` (traction, resultant, ring or point)")?;
+            .ok_or("missing field `type` (traction, resultant, ring, point or motion)")?;
         let (name, allowed): (&str, &[&str]) = match kind {
             LoadType::Traction => ("traction", &["harmonic", "family", "t_r", "t_z", "t_theta"]),
             LoadType::Resultant => ("resultant", &["force", "at_z", "torque", "moment"]),
             LoadType::Ring => ("ring", &["harmonic", "family", "f_r", "f_z", "f_theta"]),
             LoadType::Point => ("point", &["force"]),
+            LoadType::Motion => ("motion", &["displacement", "rotation", "at_z"]),
         };
         if let Some(key) = s.present().into_iter().find(|k| !allowed.contains(k)) {
             return Err(format!(
@@ -383,6 +435,12 @@ impl TryFrom<LoadSpec> for Load {
                 on,
                 force: s.force.unwrap_or_default(),
             }),
+            LoadType::Motion => Load::Motion(MotionLoad {
+                on,
+                displacement: s.displacement.unwrap_or_default(),
+                rotation: s.rotation.unwrap_or_default(),
+                at_z: s.at_z,
+            }),
         })
     }
 }
@@ -423,6 +481,14 @@ impl From<Load> for LoadSpec {
                 kind: Some(LoadType::Point),
                 on: Some(l.on),
                 force: Some(l.force),
+                ..LoadSpec::default()
+            },
+            Load::Motion(l) => LoadSpec {
+                kind: Some(LoadType::Motion),
+                on: Some(l.on),
+                displacement: Some(l.displacement),
+                rotation: Some(l.rotation),
+                at_z: l.at_z,
                 ..LoadSpec::default()
             },
         }

@@ -32,6 +32,7 @@ mod error;
 mod joint;
 mod load;
 mod locate;
+mod motion;
 mod settings;
 mod stage;
 
@@ -40,7 +41,7 @@ pub use joint::{
     JointConfig, JointLaw, JointStiffness, MohrCoulomb, RuleKind, ShearCheck, SpringSource, StiffnessSpec,
     RIGID_STIFFNESS,
 };
-pub use load::{Family, Linear, Load, PointLoad, ResultantLoad, RingLoad, TractionLoad};
+pub use load::{Family, Linear, Load, MotionLoad, PointLoad, ResultantLoad, RingLoad, TractionLoad};
 pub use settings::{
     Adapt, Cut, Fix, InitialStress, Loading, Material, MeshSource, Outputs, Sections, SolverMethod,
     SolverSettings, Support, Units, VtuSections,
