@@ -107,6 +107,12 @@ def test_stages_in_a_dict_scene_give_the_load_path_by_stage():
     ea, q = 3.0e4 * math.pi * 0.01, 0.01 * 2 * math.pi * 0.1
     assert loop[1] == pytest.approx(0.04**3 / (12 * ea * q), rel=0.03)
     assert loop[2] == pytest.approx(loop[1], rel=1e-3)
+    # The residual displacement at zero load: Masing's w_max / 2 (the first
+    # loading never returns to zero: empty).
+    w_max = 0.04**2 / (2 * ea * q)
+    residual = stages["pile_head_at_zero_load [m]"].to_list()
+    assert math.isnan(residual[0])
+    assert residual[1] == pytest.approx(w_max / 2, rel=0.03)
     r.close()
 
 

@@ -222,15 +222,25 @@ pub fn write_load_path(
 }
 
 /// The stages of a staged load path, one row per stage (per cycle of a
-/// cyclic stage): the joints' slip work over it, and each loaded face's
-/// displacement along its load and applied load at its end (the residual
-/// displacement where a cycle ends at level 0).
+/// cyclic stage): the joints' slip work over it, each loaded face's
+/// displacement along its load and applied load at its end, and its
+/// displacement where its applied load last crossed zero within it (empty
+/// if it did not): the residual displacement at zero load.
 pub fn write_stages(
     path: &Path,
     load_path: &LoadPath,
     length: &str,
     applied_units: &[String],
 ) -> Result<(), ReportError> {
+    /// One row in the making.
+    struct Group {
+        stage: String,
+        cycle: u32,
+        steps: usize,
+        work: f64,
+        end: Vec<[f64; 2]>,
+        zero: Vec<Option<f64>>,
+    }
     let Some(first) = load_path.steps.first() else {
         return Ok(());
     };
@@ -238,47 +248,70 @@ pub fn write_stages(
     let mut header: Vec<String> = ["stage", "cycle [-]", "steps [-]"].map(String::from).to_vec();
     header.push(format!("dissipated [{work_unit} {length}]"));
     for (k, f) in first.observed.faces.iter().enumerate() {
+        let unit = applied_units.get(k).map_or("-", String::as_str);
         header.push(format!("{}_along_load_end [{length}]", f.on));
-        header.push(format!(
-            "{}_applied_end [{}]",
-            f.on,
-            applied_units.get(k).map_or("-", String::as_str)
-        ));
+        header.push(format!("{}_applied_end [{unit}]", f.on));
+        header.push(format!("{}_at_zero_load [{length}]", f.on));
     }
     let mut rows: Vec<Vec<String>> = Vec::new();
     let mut numbers = Vec::new();
-    let mut group: Option<(String, u32, usize, f64, Vec<f64>)> = None;
-    let mut flush = |g: Option<(String, u32, usize, f64, Vec<f64>)>, rows: &mut Vec<Vec<String>>| {
-        if let Some((stage, cycle, n, work, end)) = g {
-            numbers.push(work);
-            numbers.extend(&end);
-            let mut row = vec![stage, cycle.to_string(), n.to_string(), num(work)];
-            row.extend(end.into_iter().map(num));
-            rows.push(row);
+    let mut flush = |g: Group, rows: &mut Vec<Vec<String>>| {
+        numbers.push(g.work);
+        let mut row = vec![g.stage, g.cycle.to_string(), g.steps.to_string(), num(g.work)];
+        for (e, z) in g.end.iter().zip(&g.zero) {
+            numbers.extend(e);
+            row.extend(e.map(num));
+            row.push(z.map_or(String::new(), |v| {
+                numbers.push(v);
+                num(v)
+            }));
         }
+        rows.push(row);
     };
+    let mut group: Option<Group> = None;
+    // Each face's (along, applied) at the step before: the unloaded state
+    // before the first.
+    let mut before: Vec<[f64; 2]> = vec![[0.0; 2]; first.observed.faces.len()];
     for s in &load_path.steps {
         let Some(m) = &s.observed.stage else { continue };
-        let end: Vec<f64> = s
+        let now: Vec<[f64; 2]> = s
             .observed
             .faces
             .iter()
-            .flat_map(|f| [f.along, f.applied.unwrap_or(0.0)])
+            .map(|f| [f.along, f.applied.unwrap_or(0.0)])
             .collect();
-        let work = s.observed.dissipated.unwrap_or(0.0);
-        match &mut group {
-            Some((stage, cycle, n, w, e)) if *stage == m.stage && *cycle == m.cycle => {
-                *n += 1;
-                *w += work;
-                *e = end;
+        if group
+            .as_ref()
+            .is_none_or(|g| g.stage != m.stage || g.cycle != m.cycle)
+        {
+            if let Some(g) = group.take() {
+                flush(g, &mut rows);
             }
-            _ => {
-                flush(group.take(), &mut rows);
-                group = Some((m.stage.clone(), m.cycle, 1, work, end));
+            group = Some(Group {
+                stage: m.stage.clone(),
+                cycle: m.cycle,
+                steps: 0,
+                work: 0.0,
+                end: Vec::new(),
+                zero: vec![None; now.len()],
+            });
+        }
+        let Some(g) = group.as_mut() else { continue };
+        for (k, (&[a0, p0], &[a1, p1])) in before.iter().zip(&now).enumerate() {
+            if p1 == 0.0 {
+                g.zero[k] = Some(a1);
+            } else if p0 * p1 < 0.0 {
+                g.zero[k] = Some(a0 + p0 / (p0 - p1) * (a1 - a0));
             }
         }
+        g.steps += 1;
+        g.work += s.observed.dissipated.unwrap_or(0.0);
+        g.end.clone_from(&now);
+        before = now;
     }
-    flush(group.take(), &mut rows);
+    if let Some(g) = group.take() {
+        flush(g, &mut rows);
+    }
     write_atomic(path, &header, &rows, &numbers)
 }
 

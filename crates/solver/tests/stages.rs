@@ -239,6 +239,11 @@ fn a_stage_beyond_the_capacity_stops_in_it_at_its_limit() {
     // The run's loads are those applied at the stop: the capacity.
     let r = axijoint_solver::loads::load_resultants(&run.loads, &run.problem.model.mesh, 0.0);
     assert!((r.force[2] / capacity - 1.0).abs() < 0.01, "{}", r.force[2]);
+    assert!(
+        (run.applied.force[2] - r.force[2]).abs() < 1e-12 * capacity,
+        "{:?}",
+        run.applied
+    );
 }
 
 #[test]

@@ -160,14 +160,7 @@ pub struct StageMark {
 impl StageMark {
     /// `stage 'storm'`, or `stage 'storm', cycle 2, level 1`.
     pub fn label(&self) -> String {
-        if self.cycle == 0 {
-            format!("stage '{}'", self.stage)
-        } else {
-            format!(
-                "stage '{}', cycle {}, level {}",
-                self.stage, self.cycle, self.level
-            )
-        }
+        crate::scene::stage_label(&self.stage, self.cycle, self.level)
     }
 }
 

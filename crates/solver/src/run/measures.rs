@@ -231,6 +231,25 @@ pub fn linear_joint_field(
     }
 }
 
+/// Each joint's swept areas by state in `file` (a load step's record).
+pub(super) fn joint_areas(
+    mesh: &Mesh,
+    file: &crate::results::JointFieldFile,
+) -> Vec<crate::results::JointAreas> {
+    mesh.joints
+        .iter()
+        .map(|j| {
+            let (open, slip, stick) = file.state_areas(&j.name);
+            crate::results::JointAreas {
+                joint: j.name.clone(),
+                open,
+                slip,
+                stick,
+            }
+        })
+        .collect()
+}
+
 /// The motion of a loaded face ([`FaceMotion`]); `None` if the curve has no area.
 pub(super) fn face_motion(mesh: &Mesh, load: &crate::scene::Load, u: &Displacements) -> Option<FaceMotion> {
     let on = load.on();

@@ -5,14 +5,14 @@
 use super::check::{faces_measure, halved, HalfRun};
 use super::elastic::{ElasticLoad, Problem};
 use super::initial::InitialState;
-use super::measures::{face_motion, padded, reactions, scaled};
+use super::measures::{face_motion, joint_areas, padded, reactions, scaled};
 use super::model::{iteration_settings, joint_laws, scene_sections};
 use super::{Run, Stopped};
 use crate::error::SolverError;
 use crate::fourier::Sections;
 use crate::iteration::{IterationRecord, JointField, Outcome};
 use crate::loads::HarmonicLoads;
-use crate::results::{JointAreas, JointFieldFile, LoadPath, StepMeasure};
+use crate::results::{JointFieldFile, LoadPath, StepMeasure};
 use crate::scene::Scene;
 use crate::solution::Displacements;
 use std::sync::Arc;
@@ -85,19 +85,7 @@ pub(super) fn iterate(
                 .iter()
                 .filter_map(|l| face_motion(mesh, l, &d))
                 .collect(),
-            joints: mesh
-                .joints
-                .iter()
-                .map(|j| {
-                    let (open, slip, stick) = file.state_areas(&j.name);
-                    JointAreas {
-                        joint: j.name.clone(),
-                        open,
-                        slip,
-                        stick,
-                    }
-                })
-                .collect(),
+            joints: joint_areas(mesh, &file),
             members: member_bodies
                 .iter()
                 .map(|&b| crate::members::member_forces(scene, model, all, lambda, &d, Some(field), b))
@@ -190,7 +178,10 @@ pub(super) fn finish(
         // Stopped within a stage: the loads applied there.
         let m_all = run.loads.iter().map(|h| h.m).max().unwrap_or(0);
         match super::stages::applied(scene, &run.problem.model, mark.leg, limit.factor, m_all) {
-            Ok(loads) => run.loads = loads,
+            Ok(loads) => {
+                run.applied = crate::loads::load_resultants(&loads, &run.problem.model.mesh, 0.0);
+                run.loads = loads;
+            }
             Err(error) => return Err(Box::new(Stopped { error, last: None })),
         }
     }

@@ -6,7 +6,7 @@
 //! load factor.
 
 use super::factors::solve_loads;
-use super::measures::{face_motion, padded};
+use super::measures::{face_motion, joint_areas, padded};
 use super::model::{iteration_settings, joint_laws};
 use super::nonlinear::Start;
 use crate::elements::JointSprings;
@@ -15,7 +15,7 @@ use crate::fourier::Sections;
 use crate::iteration::{IterationRecord, JointField, Outcome, StageEnd, StageStart};
 use crate::linear::Model;
 use crate::loads::{assemble_loads, load_resultants, HarmonicLoads, Resultants};
-use crate::results::{JointAreas, JointFieldFile, LoadPath, StageMark, StepMeasure};
+use crate::results::{JointFieldFile, LoadPath, StageMark, StepMeasure};
 use crate::scene::{Leg, Load, Scene};
 use crate::solution::{Displacements, HarmonicDisplacement};
 
@@ -263,19 +263,7 @@ pub(super) fn iterate_stages(
                         })
                     })
                     .collect(),
-                joints: mesh
-                    .joints
-                    .iter()
-                    .map(|j| {
-                        let (open, slip, stick) = file.state_areas(&j.name);
-                        JointAreas {
-                            joint: j.name.clone(),
-                            open,
-                            slip,
-                            stick,
-                        }
-                    })
-                    .collect(),
+                joints: joint_areas(mesh, &file),
                 members: member_bodies
                     .iter()
                     .map(|&b| crate::members::member_forces(scene, model, &at, 1.0, &d, Some(field), b))

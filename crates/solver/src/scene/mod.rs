@@ -46,7 +46,7 @@ pub use settings::{
     Adapt, Cut, Fix, InitialStress, Loading, Material, MeshSource, Outputs, Sections, SolverMethod,
     SolverSettings, Support, Units, VtuSections,
 };
-pub use stage::{Cyclic, Leg, Stage, MAX_STAGES};
+pub use stage::{stage_label, Cyclic, Leg, Stage, MAX_STAGES};
 
 use axijoint_mesh::JointSpec;
 use serde::de::{self, MapAccess, Visitor};

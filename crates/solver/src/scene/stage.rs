@@ -62,17 +62,20 @@ pub struct Leg {
     pub loading: Loading,
 }
 
+/// A leg's label for messages: `stage 'storm'` or `stage 'storm', cycle
+/// 2, level 1` (`cycle` 0: not cyclic).
+pub fn stage_label(name: &str, cycle: u32, level: u32) -> String {
+    if cycle == 0 {
+        format!("stage '{name}'")
+    } else {
+        format!("stage '{name}', cycle {cycle}, level {level}")
+    }
+}
+
 impl Leg {
-    /// A label for messages: `storm` or `storm, cycle 2, level 1`.
+    /// A label for messages ([`stage_label`]).
     pub fn label(&self) -> String {
-        if self.cycle == 0 {
-            format!("stage '{}'", self.name)
-        } else {
-            format!(
-                "stage '{}', cycle {}, level {}",
-                self.name, self.cycle, self.level
-            )
-        }
+        stage_label(&self.name, self.cycle, self.level)
     }
 }
 
