@@ -60,7 +60,6 @@ impl Failure {
 /// A converged iteration: the released forces, the unknowns of the
 /// method's formulation (`y`, the same as x but for Newton's traction
 /// form), their evaluation, the history.
-#[derive(Clone)]
 pub(super) struct Converged {
     pub(super) x: Vec<f64>,
     pub(super) y: Vec<f64>,

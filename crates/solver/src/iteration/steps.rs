@@ -289,11 +289,12 @@ impl<T> Path<T> {
     /// state a stage of loading starts from.
     fn new(setup: &Setup) -> Self {
         if let Some(end) = setup.resume {
+            let conv = Converged::new(end.x.clone(), end.y.clone(), end.ev.clone(), end.records.clone());
             return Path {
                 committed: end.history.clone(),
-                x_c: end.conv.x.clone(),
+                x_c: end.x.clone(),
                 lam_c: 0.0,
-                last: Some((end.conv.clone(), None)),
+                last: Some((conv, None)),
                 steps: Vec::new(),
                 cutbacks: 0,
                 spent: 0,
@@ -394,7 +395,10 @@ impl<T> Path<T> {
             }
         };
         let end = StageEnd {
-            conv: conv.clone(),
+            x: conv.x.clone(),
+            y: conv.y.clone(),
+            ev: conv.ev.clone(),
+            records: conv.history.clone(),
             history: committed.clone(),
         };
         (

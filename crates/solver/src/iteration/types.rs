@@ -59,7 +59,13 @@ pub struct StageStart<'a> {
 /// where the next stage of loading starts.
 #[derive(Clone)]
 pub struct StageEnd {
-    pub(super) conv: super::attempt::Converged,
+    /// The converged step's released forces, tractions (Newton's `y`),
+    /// evaluation and iteration records.
+    pub(super) x: Vec<f64>,
+    pub(super) y: Vec<f64>,
+    pub(super) ev: super::eval::Eval,
+    pub(super) records: Vec<IterationRecord>,
+    /// The committed history of every (section, point) pair.
     pub(super) history: Vec<crate::joint_law::PointHistory>,
 }
 

@@ -25,6 +25,7 @@ mod motion;
 mod nonlinear;
 mod plausible;
 mod stages;
+mod start;
 
 pub use auto::solve_scene_auto;
 pub use cases::{solve_cases, Cases};

@@ -7,6 +7,7 @@ use super::elastic::{ElasticLoad, Problem};
 use super::initial::InitialState;
 use super::measures::{face_motion, joint_areas, padded, reactions, scaled};
 use super::model::{iteration_settings, joint_laws, scene_sections};
+use super::start::Start;
 use super::{Run, Stopped};
 use crate::error::SolverError;
 use crate::fourier::Sections;
@@ -17,20 +18,6 @@ use crate::scene::Scene;
 use crate::solution::Displacements;
 use std::sync::Arc;
 use std::time::Instant;
-
-/// What an iteration starts from: a problem, a load on it and its elastic
-/// solution, and the initial state.
-#[derive(Clone, Copy)]
-pub(super) struct Start<'a> {
-    /// The factored model.
-    pub problem: &'a Problem,
-    /// The loads, every harmonic of the run.
-    pub loads: &'a [HarmonicLoads],
-    /// Their elastic displacements.
-    pub elastic: &'a Displacements,
-    /// The end of the initial phase, if any.
-    pub initial: Option<&'a InitialState>,
-}
 
 /// The nonlinear solution with harmonics 0..=m on `sections`: one-shot or
 /// along the load path of `solver.loading` (the iteration chooses); the

@@ -8,7 +8,7 @@
 use super::factors::solve_loads;
 use super::measures::{face_motion, joint_areas, padded};
 use super::model::{iteration_settings, joint_laws};
-use super::nonlinear::Start;
+use super::start::Start;
 use crate::elements::JointSprings;
 use crate::error::SolverError;
 use crate::fourier::Sections;
