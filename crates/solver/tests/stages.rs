@@ -11,6 +11,7 @@
 //! | torsion reversed | a block twisted on a cohesive joint between +-0.8 T_max: every step's twist against Masing from the virgin partial-slip curve | 2 % of the peak twist (measured 0.04 %) |
 //! | shakedown | twisted to 0.9 T_max, then cycled between 0.5 and 0.9 T_max: no slip work after the first loading | `1e-9` of the first |
 //! | displacement control | a rigid block's top moved sideways between +-3 Hs / K on a cohesive joint: the force follows the parallelogram (K du, capped at +-Hs); each cycle's slip work `4 Hs (u_max - Hs / K)`; the moved face where it was sent, its reaction Hs | 1 % of Hs (measured 0.03 %); 1 % (0.007 %); 1e-12; 1 % |
+//! | rigid motion | a face turned and tilted by a `motion`: every node where the motion puts it; its fitted rotation; the reaction torque `k pi a^4 / 2 rz` | 1e-15; 1e-12; 1 % |
 //! | cycles | a cyclic stage runs its levels `cycles` times; every peak and trough as the first (Masing) | `2e-4 w_max` (measured 4.7e-5 per cycle) |
 //!
 //! The rod: `geo/pile_soil.geo` with `a = 0.1` (L / a = 100: a rod), E =
@@ -596,4 +597,52 @@ fn a_block_pushed_back_and_forth_past_sliding_draws_the_rectangular_loop() {
         .find(|r| r.on == "block_top")
         .expect("the moved face's reaction");
     assert!((r.force[0] / hs - 1.0).abs() < 0.01, "{:?}", r.force);
+}
+
+#[test]
+fn a_moved_face_takes_the_rigid_motion_it_is_given() {
+    // Twist and tilt of the block's top face about its centre: every node
+    // of the face where the motion puts it (harmonic 0: u_theta = rz r;
+    // harmonic 1 symmetric: u_z = -ry r, u_r = -u_theta = ry (z - z_c) = 0
+    // on the face), the fitted rotation = rz.
+    let (rz, ry) = (1e-3, 2e-4);
+    let scene = pushed(json!([
+        {"name": "turn", "loads": [{"type": "motion", "on": "block_top", "rotation": [0, ry, rz]}]}
+    ]));
+    let run = solve(&scene);
+    let mesh = &run.problem.model.mesh;
+    let nodes = axijoint_solver::run::support_nodes(mesh, "block_top");
+    let h0 = run.displacements.harmonics.iter().find(|h| h.m == 0).unwrap();
+    let h1 = run.displacements.harmonics.iter().find(|h| h.m == 1).unwrap();
+    for &k in &nodes {
+        let r = mesh.nodes[k][0];
+        assert!(
+            (h0.symmetric[3 * k + 2] - rz * r).abs() < 1e-15,
+            "u_theta at r = {r}"
+        );
+        assert!((h1.symmetric[3 * k + 1] + ry * r).abs() < 1e-15, "u_z at r = {r}");
+        assert!(h1.symmetric[3 * k].abs() < 1e-15 && h1.symmetric[3 * k + 2].abs() < 1e-15);
+    }
+    let face = &run
+        .load_path
+        .as_ref()
+        .unwrap()
+        .steps
+        .last()
+        .unwrap()
+        .observed
+        .faces[0];
+    assert!((face.rotation - rz).abs() < 1e-12, "{}", face.rotation);
+    // Its reaction: a torque and a moment about y, no force.
+    let r = run.reactions.iter().find(|r| r.on == "block_top").unwrap();
+    println!("turned face: reaction {:?} {:?}", r.force, r.moment);
+    assert!(r.moment[2] > 0.0 && r.moment[1] > 0.0);
+    // Below first slip the twist is elastic: T = k J rz, J = pi a^4 / 2
+    // (a rigid block on the Winkler joint).
+    let torque = 100.0 * PI * 0.5f64.powi(4) / 2.0 * rz;
+    assert!(
+        (r.moment[2] / torque - 1.0).abs() < 0.01,
+        "{} vs {torque}",
+        r.moment[2]
+    );
 }
