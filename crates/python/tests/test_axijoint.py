@@ -101,7 +101,7 @@ def test_stages_in_a_dict_scene_give_the_load_path_by_stage():
     assert list(path["stage"].unique()) == ["load", "cycles"]
     assert len(path) == 2 + 2 * 2 * 2
     assert path["pile_head_applied [MN]"].iloc[-1] == pytest.approx(0.04, rel=1e-12)
-    stages = __import__("pandas").read_csv(r.folder / "stages.csv")
+    stages = r.stages
     loop = stages["dissipated [MN m]"].to_list()
     # P^3 / (12 EA q), the Masing loop of each cycle (coarse mesh: 3 %).
     ea, q = 3.0e4 * math.pi * 0.01, 0.01 * 2 * math.pi * 0.1

@@ -295,6 +295,16 @@ class Result:
         return pd.read_csv(path) if path.is_file() else None
 
     @property
+    def stages(self):
+        """stages.csv of a run with stages (one row per stage, per cycle of a
+        cyclic stage: slip work, end displacement and load, displacement at
+        zero load), else `None`."""
+        import pandas as pd
+
+        path = self.folder / "stages.csv"
+        return pd.read_csv(path) if path.is_file() else None
+
+    @property
     def members(self) -> dict:
         """The member forces of each body in `outputs.members`: body ->
         DataFrame, one row per station top to bottom (`z`, `N`, `V_x`,
