@@ -449,3 +449,69 @@ fn bad_loading_values_are_refused_naming_the_key() {
         assert!(!out.exists(), "{name}: nothing written");
     }
 }
+
+/// Stages through the binary (docs/scene-format.md, "stages"): the block's
+/// top moved sideways by `motion` loads past its sliding displacement and
+/// back, with `outputs.stages: "each"`: a solution folder with its report
+/// at the end of every leg but the last, whose loaded face sits where the
+/// run's load path says it was at that leg's end (1e-12); `stages.csv`,
+/// `hysteresis.svg` and the stage columns of `load_path.csv` in the run's
+/// own folder.
+#[test]
+fn stages_each_write_every_legs_end() {
+    let dir = tempfile::tempdir().unwrap();
+    let source = std::fs::read_to_string(geo("block_torsion.json")).unwrap();
+    let mut scene: Value = serde_json::from_str(&source).unwrap();
+    scene["mesh"]["file"] = json!(geo("block_on_base.geo").to_str().unwrap());
+    scene.as_object_mut().unwrap().remove("loads");
+    scene["harmonics"] = json!(1);
+    scene["joints"]["contact"]["law"]["tensile_strength"] = json!(10.0);
+    scene["solver"] = json!({"method": "newton", "epsilon": 1e-8});
+    let push = |u: f64| json!([{"type": "motion", "on": "block_top", "displacement": [u, 0, 0]}]);
+    scene["stages"] = json!([
+        {"name": "push", "loads": push(0.003), "loading": {"steps": 3}},
+        {"name": "back", "loads": push(-0.003), "loading": {"steps": 6}},
+        {"name": "home", "loads": [], "loading": {"steps": 3}}
+    ]);
+    scene["outputs"] =
+        json!({"csv": true, "plots": true, "vtu": false, "gmsh_views": false, "stages": "each"});
+    let path = dir.path().join("staged.json");
+    std::fs::write(&path, serde_json::to_string_pretty(&scene).unwrap()).unwrap();
+    let out = dir.path().join("out");
+    let run = axijoint(&["run", path.to_str().unwrap(), "-o", out.to_str().unwrap(), "-q"]);
+    assert_eq!(run.status.code(), Some(0), "{}", text(&run).1);
+    for f in ["stages.csv", "hysteresis.svg", "load_path.csv", "summary.json"] {
+        assert!(out.join(f).is_file(), "{f}");
+    }
+    let header = std::fs::read_to_string(out.join("load_path.csv")).unwrap();
+    assert!(
+        header.starts_with("leg [-],stage,cycle [-],level [-],lambda [-]"),
+        "{header}"
+    );
+    let solution: Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("solution.json")).unwrap()).unwrap();
+    let steps = solution["extra"]["load_path"]["steps"].as_array().unwrap();
+    let mut folders: Vec<String> = std::fs::read_dir(out.join("stages"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    folders.sort();
+    assert_eq!(folders, ["000-push", "001-back"]);
+    for (leg, folder) in folders.iter().enumerate() {
+        let summary: Value = serde_json::from_str(
+            &std::fs::read_to_string(out.join("stages").join(folder).join("summary.json")).unwrap(),
+        )
+        .unwrap();
+        let at = summary["loaded_faces"]["block_top"][0].as_f64().unwrap();
+        let end = steps
+            .iter()
+            .rfind(|s| s["observed"]["stage"]["leg"] == json!(leg))
+            .unwrap();
+        let expected = end["observed"]["faces"][0]["mean"][0].as_f64().unwrap();
+        assert!(
+            (at - expected).abs() < 1e-12 * 0.003,
+            "{folder}: {at} vs {expected}"
+        );
+        assert!((at.abs() - 0.003).abs() < 1e-12 * 0.003, "{folder}: {at}");
+    }
+}

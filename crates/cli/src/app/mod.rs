@@ -79,6 +79,19 @@ pub fn run(path: &Path, scene: &Scene, options: &Options) -> Result<()> {
     }
     if options.report {
         report::write(out, options.print)?;
+        // The states at the end of each leg (`outputs.stages: "each"`).
+        let stages = out.join(solve::STAGES_DIR);
+        if let Ok(entries) = std::fs::read_dir(&stages) {
+            let mut dirs: Vec<_> = entries
+                .flatten()
+                .map(|e| e.path())
+                .filter(|p| p.is_dir())
+                .collect();
+            dirs.sort();
+            for dir in dirs {
+                report::write(&dir, false)?;
+            }
+        }
     }
     check_limit(&header, out)
 }

@@ -73,9 +73,56 @@ pub fn solve_to_then(scene: &Scene, out: &Path, quiet: bool, iterating: &dyn Fn(
     };
     bar.finish_and_clear();
     match result {
-        Ok((solved, run)) => write_run(&solved, &run, &msh, out),
+        Ok((solved, run)) => {
+            let header = write_run(&solved, &run, &msh, out)?;
+            write_stage_ends(&solved, &run, &msh, out)?;
+            Ok(header)
+        }
         Err(stopped) => Err(write_stopped(scene, *stopped, &msh, out)),
     }
+}
+
+/// The folder of the states at the end of each leg of a staged run
+/// (`outputs.stages: "each"`), inside the output.
+pub const STAGES_DIR: &str = "stages";
+
+/// The folder of a leg's end: `NNN-stage` or `NNN-stage-cC-lL`.
+fn stage_folder(mark: &axijoint_solver::results::StageMark) -> String {
+    if mark.cycle == 0 {
+        format!("{:03}-{}", mark.leg, mark.stage)
+    } else {
+        format!("{:03}-{}-c{}-l{}", mark.leg, mark.stage, mark.cycle, mark.level)
+    }
+}
+
+/// With `outputs.stages: "each"`: a solution folder for the end of every
+/// leg but the last (the run's own), in `out/stages/`.
+fn write_stage_ends(solved: &Scene, run: &Run, msh: &Path, out: &Path) -> Result<()> {
+    if run.stage_ends.is_empty() {
+        return Ok(());
+    }
+    let dir = out.join(STAGES_DIR);
+    std::fs::create_dir_all(&dir).with_context(|| format!("{}: cannot make the folder", dir.display()))?;
+    let mesh = &run.problem.model.mesh;
+    for s in &run.stage_ends {
+        let displacements = s.outcome.displacements.clone();
+        let state = Run {
+            problem: run.problem.clone(),
+            applied: axijoint_solver::loads::load_resultants(&s.loads, mesh, 0.0),
+            reactions: axijoint_solver::run::reactions(solved, &run.problem.model, &s.loads, &displacements),
+            loads: s.loads.clone(),
+            displacements,
+            timings: run.timings.clone(),
+            outcome: Some(s.outcome.clone()),
+            harmonic_check: None,
+            auto_steps: Vec::new(),
+            load_path: None,
+            initial: run.initial.clone(),
+            stage_ends: Vec::new(),
+        };
+        write_run(solved, &state, msh, &dir.join(stage_folder(&s.mark)))?;
+    }
+    Ok(())
 }
 
 /// The error of a stopped run, after writing its last iterate (if any) to

@@ -69,7 +69,7 @@ pub fn solve_scene_auto(
             elastic: &u,
             initial: initial.as_ref(),
         };
-        let (outcome, load_path) = iterate(&sc, start, m, None, &sections, &mut progress)?;
+        let (outcome, load_path) = iterate(&sc, start, m, None, &sections, None, &mut progress)?;
         let values = measure(&problem.model, &outcome.displacements);
         let change = previous.as_ref().map(|p| {
             let scale = values

@@ -156,8 +156,14 @@ fn sections_deg(outcome: &crate::iteration::Outcome) -> Vec<f64> {
 /// The header without a record.
 fn bare_header(scene: &Scene, run: &Run) -> SolutionHeader {
     let mesh = &run.problem.model.mesh;
-    let loaded_faces = scene
-        .loads
+    // With stages, every face loaded in some stage (the last may unload).
+    let staged = scene.staged_faces();
+    let loads = if scene.stages.is_empty() {
+        &scene.loads
+    } else {
+        &staged
+    };
+    let loaded_faces = loads
         .iter()
         .filter_map(|l| face_displacement(mesh, l.on(), &run.displacements).map(|d| (l.on().to_string(), d)))
         .collect();

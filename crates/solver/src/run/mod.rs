@@ -84,6 +84,20 @@ pub struct Run {
     /// The initial phase, if the scene has one; the displacements of the
     /// run are relative to its end.
     pub initial: Option<InitialState>,
+    /// With `outputs.stages: "each"`: the state at the end of every leg
+    /// but the last (the run's own).
+    pub stage_ends: Vec<StageSnapshot>,
+}
+
+/// The state at the end of a leg of a staged run ([`Run::stage_ends`]).
+#[derive(Clone, Debug)]
+pub struct StageSnapshot {
+    /// The leg.
+    pub mark: crate::results::StageMark,
+    /// The loads applied there, every harmonic of the run.
+    pub loads: Vec<HarmonicLoads>,
+    /// The solution there (whole displacements).
+    pub outcome: Outcome,
 }
 
 impl Run {
@@ -102,6 +116,7 @@ impl Run {
             auto_steps: Vec::new(),
             load_path: None,
             initial: None,
+            stage_ends: Vec::new(),
         }
     }
 

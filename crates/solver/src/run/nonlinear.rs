@@ -29,10 +29,11 @@ pub(super) fn iterate(
     m: u32,
     whole_up_to: Option<u32>,
     sections: &Sections,
+    ends: Option<&mut Vec<super::StageSnapshot>>,
     progress: impl FnMut(&IterationRecord),
 ) -> Result<(Outcome, Option<LoadPath>), SolverError> {
     if !scene.stages.is_empty() {
-        return super::stages::iterate_stages(scene, start, m, whole_up_to, sections, progress);
+        return super::stages::iterate_stages(scene, start, m, whole_up_to, sections, ends, progress);
     }
     let Start {
         problem,
@@ -126,7 +127,17 @@ pub(super) fn finish(
         elastic: &run.displacements,
         initial: run.initial.as_ref(),
     };
-    let (outcome, load_path) = match iterate(scene, start, m, None, &sections, &mut progress) {
+    let mut ends = Vec::new();
+    let keep = scene.outputs.stages == crate::scene::StageOutputs::Each;
+    let (outcome, load_path) = match iterate(
+        scene,
+        start,
+        m,
+        None,
+        &sections,
+        keep.then_some(&mut ends),
+        &mut progress,
+    ) {
         Ok(v) => v,
         Err(SolverError::Iteration(e)) => {
             let last = e.last().cloned().map(|last| {
@@ -152,6 +163,7 @@ pub(super) fn finish(
             m / 2,
             whole_up_to,
             &sections,
+            None,
             |_| {},
         )))
     } else {
@@ -183,5 +195,6 @@ pub(super) fn finish(
     );
     run.outcome = Some(outcome);
     run.load_path = load_path;
+    run.stage_ends = ends;
     Ok(run)
 }

@@ -128,6 +128,7 @@ pub(super) fn iterate_stages(
     m: u32,
     whole_up_to: Option<u32>,
     sections: &Sections,
+    mut ends: Option<&mut Vec<super::StageSnapshot>>,
     mut progress: impl FnMut(&IterationRecord),
 ) -> Result<(Outcome, Option<LoadPath>), SolverError> {
     let Start {
@@ -296,6 +297,13 @@ pub(super) fn iterate_stages(
                 stopped_in: stopped,
             };
             return Ok((solved.outcome, Some(path)));
+        }
+        if let Some(ends) = ends.as_deref_mut() {
+            ends.push(super::StageSnapshot {
+                mark: mark.clone(),
+                loads: total.clone(),
+                outcome: solved.outcome.clone(),
+            });
         }
         let end = solved.end.ok_or_else(|| {
             SolverError::Solve(crate::linear::SolveError::Input(format!(

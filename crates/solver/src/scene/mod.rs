@@ -44,7 +44,7 @@ pub use joint::{
 pub use load::{Family, Linear, Load, MotionLoad, PointLoad, ResultantLoad, RingLoad, TractionLoad};
 pub use settings::{
     Adapt, Cut, Fix, InitialStress, Loading, Material, MeshSource, Outputs, Sections, SolverMethod,
-    SolverSettings, Support, Units, VtuSections,
+    SolverSettings, StageOutputs, Support, Units, VtuSections,
 };
 pub use stage::{stage_label, Cyclic, Leg, Stage, MAX_STAGES};
 

@@ -553,6 +553,28 @@ pub struct Outputs {
     /// ([`crate::members`]; `member_<body>.csv`).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub members: Vec<String>,
+    /// With `stages`: `"each"` writes a solution folder (and its report)
+    /// at the end of every leg but the last, in `stages/`; `"end"` (the
+    /// default): the run's folder only.
+    #[serde(default, skip_serializing_if = "StageOutputs::is_end")]
+    pub stages: StageOutputs,
+}
+
+/// Which states of a staged run get outputs ([`Outputs::stages`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StageOutputs {
+    /// The end of the run only.
+    #[default]
+    End,
+    /// The end of every leg.
+    Each,
+}
+
+impl StageOutputs {
+    fn is_end(&self) -> bool {
+        *self == StageOutputs::End
+    }
 }
 
 fn yes() -> bool {
@@ -632,6 +654,7 @@ impl Default for Outputs {
             vtu_compress: false,
             gmsh_views: true,
             members: Vec::new(),
+            stages: StageOutputs::End,
         }
     }
 }
