@@ -23,6 +23,23 @@ pub struct Displacements {
 }
 
 impl Displacements {
+    /// `self - other`, harmonic by harmonic (the same harmonics, in order).
+    pub fn minus(&self, other: &Displacements) -> Displacements {
+        let minus = |u: &[f64], v: &[f64]| u.iter().zip(v).map(|(p, q)| p - q).collect();
+        Displacements {
+            harmonics: self
+                .harmonics
+                .iter()
+                .zip(&other.harmonics)
+                .map(|(p, q)| HarmonicDisplacement {
+                    m: p.m,
+                    symmetric: minus(&p.symmetric, &q.symmetric),
+                    antisymmetric: minus(&p.antisymmetric, &q.antisymmetric),
+                })
+                .collect(),
+        }
+    }
+
     /// `(u_r, u_z, u_theta)` of node `n` at angle `theta` (radians).
     pub fn at(&self, n: usize, theta: f64) -> [f64; 3] {
         let mut u = [0.0; 3];

@@ -8,7 +8,6 @@ use crate::linear::Model;
 use crate::loads::HarmonicLoads;
 use crate::results::{HarmonicCheck, JointFieldFile, LoadPath};
 use crate::scene::Scene;
-use crate::solution::{Displacements, HarmonicDisplacement};
 
 /// Compares the key results of two solutions of the same model (`loads`:
 /// the run's, every harmonic).
@@ -51,23 +50,7 @@ pub(super) fn harmonic_check(
     let (face_change, note) = if measured_by_faces(scale, u_max) {
         (diff / scale, None)
     } else {
-        let delta = Displacements {
-            harmonics: uf
-                .harmonics
-                .iter()
-                .zip(&uh.harmonics)
-                .map(|(a, b)| HarmonicDisplacement {
-                    m: a.m,
-                    symmetric: a.symmetric.iter().zip(&b.symmetric).map(|(x, y)| x - y).collect(),
-                    antisymmetric: a
-                        .antisymmetric
-                        .iter()
-                        .zip(&b.antisymmetric)
-                        .map(|(x, y)| x - y)
-                        .collect(),
-                })
-                .collect(),
-        };
+        let delta = uf.minus(&uh);
         let change = if u_max > 0.0 {
             max_displacement(n, &delta) / u_max
         } else {

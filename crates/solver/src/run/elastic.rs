@@ -7,7 +7,7 @@ use super::model::{build_model, mesh_scene};
 use super::Run;
 use crate::error::SolverError;
 use crate::linear::{HarmonicFactor, Model};
-use crate::loads::{assemble_loads, HarmonicLoads};
+use crate::loads::HarmonicLoads;
 use crate::scene::Scene;
 use crate::solution::{Displacements, Timings};
 use std::path::Path;
@@ -64,8 +64,6 @@ pub(super) fn elastic(
 ) -> Result<Elastic, SolverError> {
     let (mesh, _) = mesh_scene(scene, keep_msh)?;
     let m_max = scene.harmonics();
-    // Refused before the model is built: a load on a missing name.
-    assemble_loads(scene, &mesh, m_max)?;
     let t0 = Instant::now();
     let model = build_model(scene, mesh)?;
     let loads = super::motion::loads_on(scene, &model, m_max)?;

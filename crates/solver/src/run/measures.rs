@@ -231,6 +231,16 @@ pub fn linear_joint_field(
     }
 }
 
+/// The bodies of `outputs.members` (indices in `mesh.bodies`).
+pub(super) fn member_bodies(scene: &Scene, mesh: &Mesh) -> Vec<usize> {
+    scene
+        .outputs
+        .members
+        .iter()
+        .filter_map(|b| mesh.body(b))
+        .collect()
+}
+
 /// Each joint's swept areas by state in `file` (a load step's record).
 pub(super) fn joint_areas(
     mesh: &Mesh,

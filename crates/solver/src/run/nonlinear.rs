@@ -5,7 +5,7 @@
 use super::check::{faces_measure, halved, HalfRun};
 use super::elastic::{ElasticLoad, Problem};
 use super::initial::InitialState;
-use super::measures::{face_motion, joint_areas, padded, reactions, scaled};
+use super::measures::{face_motion, joint_areas, member_bodies, padded, reactions, scaled};
 use super::model::{iteration_settings, joint_laws, scene_sections};
 use super::start::Start;
 use super::{Run, Stopped};
@@ -58,12 +58,7 @@ pub(super) fn iterate(
     };
     let mesh = &model.mesh;
     let springs: Vec<_> = model.joints.iter().map(|j| j.springs).collect();
-    let member_bodies: Vec<usize> = scene
-        .outputs
-        .members
-        .iter()
-        .filter_map(|b| mesh.body(b))
-        .collect();
+    let member_bodies = member_bodies(scene, mesh);
     let observe = |lambda: f64, u: &Displacements, field: &JointField| {
         let d = padded(u, all);
         let file = JointFieldFile::new(mesh, &springs, field);

@@ -6,7 +6,7 @@
 //! load factor.
 
 use super::factors::solve_loads;
-use super::measures::{face_motion, joint_areas, padded};
+use super::measures::{face_motion, joint_areas, member_bodies, padded};
 use super::model::{iteration_settings, joint_laws};
 use super::start::Start;
 use crate::elements::JointSprings;
@@ -17,7 +17,7 @@ use crate::linear::Model;
 use crate::loads::{assemble_loads, load_resultants, HarmonicLoads, Resultants};
 use crate::results::{JointFieldFile, LoadPath, StageMark, StepMeasure};
 use crate::scene::{Leg, Load, Scene};
-use crate::solution::{Displacements, HarmonicDisplacement};
+use crate::solution::Displacements;
 
 /// `a x + b y`, harmonic by harmonic (same harmonics).
 fn combine_loads(a: f64, x: &[HarmonicLoads], b: f64, y: &[HarmonicLoads]) -> Vec<HarmonicLoads> {
@@ -29,23 +29,6 @@ fn combine_loads(a: f64, x: &[HarmonicLoads], b: f64, y: &[HarmonicLoads]) -> Ve
             out
         })
         .collect()
-}
-
-/// `x - y`, harmonic by harmonic (same harmonics).
-fn difference(x: &Displacements, y: &Displacements) -> Displacements {
-    let minus = |u: &[f64], v: &[f64]| u.iter().zip(v).map(|(p, q)| p - q).collect();
-    Displacements {
-        harmonics: x
-            .harmonics
-            .iter()
-            .zip(&y.harmonics)
-            .map(|(p, q)| HarmonicDisplacement {
-                m: p.m,
-                symmetric: minus(&p.symmetric, &q.symmetric),
-                antisymmetric: minus(&p.antisymmetric, &q.antisymmetric),
-            })
-            .collect(),
-    }
 }
 
 /// The loads at the end of `leg`, harmonics 0..=`m_max`.
@@ -146,12 +129,7 @@ pub(super) fn iterate_stages(
     let laws = joint_laws(scene, model);
     let settings = iteration_settings(scene);
     let springs: Vec<_> = model.joints.iter().map(|j| j.springs).collect();
-    let member_bodies: Vec<usize> = scene
-        .outputs
-        .members
-        .iter()
-        .filter_map(|b| mesh.body(b))
-        .collect();
+    let member_bodies = member_bodies(scene, mesh);
     let faces = scene.staged_faces();
     let zeros: Vec<HarmonicLoads> = all.iter().map(|h| HarmonicLoads::zeros(h.m, n)).collect();
     // The direction of each face: its load's resultant, or a moved face's
@@ -185,10 +163,10 @@ pub(super) fn iterate_stages(
         let u_total = solve_loads(model, &problem.factors, &total);
         let (base, u_base) = match &prev {
             Some((b, ub, _)) => (b.clone(), ub.clone()),
-            None => (zeros.clone(), difference(&u_total, &u_total)),
+            None => (zeros.clone(), u_total.minus(&u_total)),
         };
         let step_all = combine_loads(1.0, &total, -1.0, &base);
-        let u_step = difference(&u_total, &u_base);
+        let u_step = u_total.minus(&u_base);
         // Each face's load along its direction, at the leg's start and end.
         let face_loads: Vec<(f64, f64)> = faces
             .iter()

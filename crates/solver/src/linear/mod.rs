@@ -6,6 +6,8 @@
 //! forming `K_m` from them costs a few percent of an element-by-element
 //! assembly (docs/performance.md).
 
+mod reduced;
+
 use crate::assembly::{
     for_each_element, for_each_element_where, pin_axis_rows, scatter, ElementScratch, JointModel, Pattern,
     StiffnessTerms,
@@ -21,8 +23,7 @@ use faer::sparse::linalg::amd;
 use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, SymbolicCholesky, SymmetricOrdering};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Mat, Side};
-use rayon::prelude::*;
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::AtomicUsize;
 use std::sync::{Arc, Mutex, OnceLock};
 
 /// [`Model::factorize_all`] assembles the [`StiffnessTerms`] when it
@@ -216,92 +217,6 @@ impl Model {
         self.symbolic.len_val()
     }
 
-    /// At most `n` (at least 1) harmonics whose factors keep only their
-    /// joint blocks are factorized at once by [`Model::factorize_all_with`]
-    /// and by the iteration's full solves: each holds a whole factor while
-    /// it works. Default: no limit (rayon's threads).
-    pub fn set_lean_at_once(&self, n: usize) {
-        self.lean_at_once.store(n.max(1), Ordering::Relaxed);
-    }
-
-    /// `f(i)` for `i` in `0..n`, in parallel, but at most
-    /// [`Model::set_lean_at_once`] of the `i` with `lean(i)` at once.
-    pub fn map_bounded<T: Send>(
-        &self,
-        n: usize,
-        lean: impl Fn(usize) -> bool + Sync,
-        f: impl Fn(usize) -> T + Sync + Send,
-    ) -> Vec<T> {
-        self.map_bounded_with_room(n, lean, |_| 0, f)
-    }
-
-    /// [`Model::map_bounded`], with `room(k)` more of the lean `i` at once
-    /// (up to rayon's threads) after `k` of them are done.
-    fn map_bounded_with_room<T: Send>(
-        &self,
-        n: usize,
-        lean: impl Fn(usize) -> bool + Sync,
-        room: impl Fn(usize) -> usize,
-        f: impl Fn(usize) -> T + Sync + Send,
-    ) -> Vec<T> {
-        let (lean_i, whole_i): (Vec<usize>, Vec<usize>) = (0..n).partition(|&i| lean(i));
-        let mut out: Vec<Option<T>> = (0..n).map(|_| None).collect();
-        let mut put = |done: Vec<(usize, T)>| {
-            for (i, t) in done {
-                out[i] = Some(t);
-            }
-        };
-        put(whole_i.par_iter().map(|&i| (i, f(i))).collect());
-        let at_once = self.lean_at_once.load(Ordering::Relaxed).max(1);
-        let threads = rayon::current_num_threads().max(1);
-        let mut done = 0;
-        while done < lean_i.len() {
-            let more = room(done);
-            let k = if more > 0 {
-                at_once.max(at_once.saturating_add(more).min(threads))
-            } else {
-                at_once
-            };
-            let chunk = &lean_i[done..(done + k.min(lean_i.len() - done))];
-            put(chunk.par_iter().map(|&i| (i, f(i))).collect());
-            done += chunk.len();
-        }
-        out.into_iter().map(|t| t.expect("every index mapped")).collect()
-    }
-
-    /// Stored values of a factor's joint block ([`Model::joint_block`]).
-    pub fn joint_block_len(&self) -> usize {
-        let first = self.pattern.n - self.trailing.len();
-        trailing_offset(&self.symbolic, first).map_or(self.factor_len(), |o| self.factor_len() - o)
-    }
-
-    /// `factor` reduced to its joint block: the trailing columns of L that
-    /// [`Model::solve_joint`] reads (a simplicial factor stays whole). Its
-    /// joint solves are those of the whole factor, value for value;
-    /// [`Model::solve`] with it reads the rest back from disk
-    /// ([`crate::spill::FACTOR_DISK_ENV`]) or, where there is none,
-    /// factorizes the harmonic again.
-    pub fn joint_block(&self, mut factor: HarmonicFactor) -> HarmonicFactor {
-        let first = self.pattern.n - self.trailing.len();
-        if let Some(o) = trailing_offset(&factor.symbolic, first) {
-            if o > factor.offset {
-                let cut = o - factor.offset;
-                if factor.offset == 0 {
-                    factor.spilled = self
-                        .spill
-                        .get_or_init(crate::spill::SpillFile::open)
-                        .as_ref()
-                        .and_then(|file| file.put(&factor.values[..cut], factor.seconds));
-                }
-                let kept = factor.values[cut..].to_vec();
-                let whole = std::mem::replace(&mut factor.values, kept);
-                self.give_back(whole);
-                factor.offset = o;
-            }
-        }
-        factor
-    }
-
     /// Nodes of the joint elements, sorted: the node order of
     /// [`Model::solve_joint`].
     pub fn joint_nodes(&self) -> &[usize] {
@@ -463,40 +378,6 @@ impl Model {
         Ok(factor)
     }
 
-    /// An empty buffer for the values of a whole factor: a spare one, else
-    /// a new one.
-    fn buffer(&self) -> Result<Vec<f64>, SolveError> {
-        let len = self.symbolic.len_val();
-        if let Some(mut v) = self.spare.lock().ok().and_then(|mut s| s.pop()) {
-            v.clear();
-            return Ok(v);
-        }
-        let mut v = Vec::new();
-        v.try_reserve_exact(len)
-            .map_err(|_| SolveError::Factorization("out of memory for the factor".into()))?;
-        Ok(v)
-    }
-
-    /// Keeps the values buffer `v` of a dropped whole factor for the next
-    /// (as many as [`Model::set_lean_at_once`] allows to work at once: no
-    /// more whole factors are held than when they work; the others are
-    /// freed).
-    fn give_back(&self, v: Vec<f64>) {
-        if v.capacity() < self.symbolic.len_val() {
-            return;
-        }
-        let keep = self
-            .lean_at_once
-            .load(Ordering::Relaxed)
-            .min(rayon::current_num_threads())
-            .max(1);
-        if let Ok(mut spare) = self.spare.lock() {
-            if spare.len() < keep {
-                spare.push(v);
-            }
-        }
-    }
-
     /// The numeric factorization of [`Model::factorize_values`], without
     /// its probe.
     fn numeric(&self, m: u32, values: &[f64], pinned: Vec<bool>) -> Result<HarmonicFactor, SolveError> {
@@ -534,34 +415,6 @@ impl Model {
             spilled: None,
             seconds: t.elapsed().as_secs_f64(),
         })
-    }
-
-    /// The whole factor of a harmonic whose `factor` keeps only its joint
-    /// block: its values read back from disk, else assembled as
-    /// [`Model::factorize`] does and factorized again (without the probe:
-    /// the harmonic factorized before).
-    fn refactorize(&self, factor: &HarmonicFactor) -> HarmonicFactor {
-        let read = factor.spilled.as_ref().and_then(|s| {
-            let buffer = self.buffer().ok()?;
-            s.read_then(&factor.values, buffer).ok()
-        });
-        if let Some(values) = read {
-            return HarmonicFactor {
-                m: factor.m,
-                symbolic: factor.symbolic.clone(),
-                values,
-                offset: 0,
-                pinned: factor.pinned.clone(),
-                spilled: None,
-                seconds: factor.seconds,
-            };
-        }
-        let (values, pinned) = match self.current_terms() {
-            Some(terms) => self.terms_from(&terms, factor.m),
-            None => self.assemble(factor.m),
-        };
-        self.numeric(factor.m, &values, pinned)
-            .unwrap_or_else(|e| panic!("harmonic {} factorized before, not again: {e}", factor.m))
     }
 
     /// Factorizes each harmonic in `ms`, in parallel; from [`TERMS_FROM`]
