@@ -221,7 +221,7 @@ fn iterate(
     elastic: &Displacements,
     m: u32,
 ) -> Result<Outcome, String> {
-    let sections = scene_sections(scene, loads).map_err(|e| e.to_string())?;
+    let sections = scene_sections(scene, model, loads).map_err(|e| e.to_string())?;
     let loads: Vec<HarmonicLoads> = loads.iter().filter(|h| h.m <= m).cloned().collect();
     let settings = iteration_settings(scene);
     let problem = Problem {
@@ -235,7 +235,7 @@ fn iterate(
         from: None,
     };
     let stepping = scene.solver.loading.into();
-    let result = solve(&problem, &settings, None, stepping, |_, _, _| (), |_| {}).map(|s| s.outcome);
+    let result = solve(&problem, &settings, None, stepping, |_, _, _, _| (), |_| {}).map(|s| s.outcome);
     result.map_err(|e| {
         let h = e.history();
         format!(
@@ -262,7 +262,7 @@ fn run_variant(args: &Args, variant: &str, rows: &mut Vec<Row>) -> Result<(), St
     };
     let refine = scene.mesh.parameters.get("refine").copied().unwrap_or(f64::NAN);
     let m_max = args.harmonics;
-    if !scene.has_nonlinear_joints() {
+    if !scene.is_nonlinear() {
         return Err(format!("{variant}: no nonlinear joint"));
     }
 
@@ -295,7 +295,9 @@ fn run_variant(args: &Args, variant: &str, rows: &mut Vec<Row>) -> Result<(), St
         .iter()
         .map(|j| scene.joints[&j.name].law)
         .collect();
-    let n_sections = scene_sections(&scene, &loads).map_err(|e| e.to_string())?.len();
+    let n_sections = scene_sections(&scene, &model, &loads)
+        .map_err(|e| e.to_string())?
+        .len();
     eprintln!(
         "bench_nonlinear: {variant}, size {} M {m_max}: {} DOF per harmonic, {n_sections} sections; \
          mesh {mesh_s:.2} s; linear {linear_s:.3} s (loads {loads_s:.3}, setup {setup_s:.3}, \

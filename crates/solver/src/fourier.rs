@@ -222,6 +222,20 @@ pub fn basis(m: u32, family: Family, theta: f64) -> (f64, f64) {
     }
 }
 
+/// `d/dtheta` of [`basis`]: `(-m sin, m cos)` symmetric, `(m cos, m sin)`
+/// antisymmetric, zero for m = 0.
+pub fn basis_derivative(m: u32, family: Family, theta: f64) -> (f64, f64) {
+    if m == 0 {
+        return (0.0, 0.0);
+    }
+    let mf = f64::from(m);
+    let (s, c) = (mf * theta).sin_cos();
+    match family {
+        Family::Symmetric => (-mf * s, mf * c),
+        Family::Antisymmetric => (mf * c, mf * s),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

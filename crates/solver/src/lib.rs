@@ -50,6 +50,7 @@ pub mod linear;
 pub mod loads;
 pub mod material;
 pub mod members;
+pub mod plasticity;
 pub mod results;
 pub mod run;
 pub mod scene;

@@ -112,7 +112,7 @@ fn jacobian_vector_product_matches_a_finite_difference_of_psi() {
         }
         let lin = solve_linear(&sc, None, true).expect("linear run");
         let laws = laws(&sc, &lin.problem.model.mesh);
-        let sections = scene_sections(&sc, &lin.loads).expect("sections");
+        let sections = scene_sections(&sc, &lin.problem.model, &lin.loads).expect("sections");
         let fp = FixedPoint::new(
             &lin.problem.model,
             &lin.problem.factors,
@@ -173,7 +173,7 @@ fn traction_form_jacobian_matches_a_finite_difference() {
         let softened = lin.problem.model.joints.iter().any(|j| j.assembled != j.springs);
         assert!(softened, "k h / E = {kh}: the joint is assembled as it is");
         let laws = laws(&sc, &lin.problem.model.mesh);
-        let sections = scene_sections(&sc, &lin.loads).expect("sections");
+        let sections = scene_sections(&sc, &lin.problem.model, &lin.loads).expect("sections");
         let fp = FixedPoint::new(
             &lin.problem.model,
             &lin.problem.factors,
@@ -210,7 +210,7 @@ fn traction_form_jacobian_matches_a_finite_difference() {
 fn timed(scene: &Scene, method: Method) -> (f64, u32, usize) {
     let lin = solve_linear(scene, None, true).expect("linear run");
     let laws = laws(scene, &lin.problem.model.mesh);
-    let sections = scene_sections(scene, &lin.loads).expect("sections");
+    let sections = scene_sections(scene, &lin.problem.model, &lin.loads).expect("sections");
     let settings = IterationSettings {
         method,
         epsilon: 1e-6,
@@ -431,7 +431,7 @@ fn the_gmres_interface_solve_agrees_with_the_dense_lu() {
         let sc = stiff_scene_p(kh);
         let lin = solve_linear(&sc, None, true).expect("linear run");
         let laws = laws(&sc, &lin.problem.model.mesh);
-        let sections = scene_sections(&sc, &lin.loads).expect("sections");
+        let sections = scene_sections(&sc, &lin.problem.model, &lin.loads).expect("sections");
         let run = |coupled_max: usize| {
             let settings = IterationSettings {
                 method: Method::Newton,
@@ -482,7 +482,7 @@ fn gmres_first_agrees_with_the_dense_lu_on_the_pile_in_soil() {
     let lin = solve_linear(&sc, None, true).expect("linear run");
     let model = &lin.problem.model;
     let laws = laws(&sc, &model.mesh);
-    let sections = scene_sections(&sc, &lin.loads).expect("sections");
+    let sections = scene_sections(&sc, &lin.problem.model, &lin.loads).expect("sections");
     let problem = axijoint_solver::iteration::Problem {
         model,
         factors: &lin.problem.factors,
@@ -505,7 +505,7 @@ fn gmres_first_agrees_with_the_dense_lu_on_the_pile_in_soil() {
             &settings,
             None,
             Stepping::Steps(StepControl::AUTO),
-            |_, _, _| (),
+            |_, _, _, _| (),
             |_| {},
         )
         .unwrap_or_else(|e| panic!("gmres_first {gmres_first}: {e}"));

@@ -110,7 +110,8 @@ fn unchanging_joint_converges_in_one_iteration_to_the_linear_solution() {
     let p = -resultant(&mut sc).force[2];
     resultant(&mut sc).moment = [0.0, p * a / 10.0];
     let linear = solve_linear(&sc, None, true).expect("linear run");
-    let sections = axijoint_solver::run::scene_sections(&sc, &linear.loads).expect("sections");
+    let sections =
+        axijoint_solver::run::scene_sections(&sc, &linear.problem.model, &linear.loads).expect("sections");
     assert_eq!(sections.len(), 5, "the paper's M + 1 sections");
 
     let out = stress_transfer(

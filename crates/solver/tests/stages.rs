@@ -13,6 +13,8 @@
 //! | displacement control | a rigid block's top moved sideways between +-3 Hs / K on a cohesive joint: the force follows the parallelogram (K du, capped at +-Hs); each cycle's slip work `4 Hs (u_max - Hs / K)`; the moved face where it was sent, its reaction Hs | 1 % of Hs (measured 0.03 %); 1 % (0.007 %); 1e-12; 1 % |
 //! | rigid motion | a face turned and tilted by a `motion`: every node where the motion puts it; its fitted rotation; the reaction torque `k pi a^4 / 2 rz` | 1e-15; 1e-12; 1 % |
 //! | cycles | a cyclic stage runs its levels `cycles` times; every peak and trough as the first (Masing) | `2e-4 w_max` (measured 4.7e-5 per cycle) |
+//! | ratcheting | a stiff rod pulled at `p = 0.6 C` and twisted back and forth beyond slip (a `motion` holding r and theta, z free): the rod slides out by `4 (p / s) (a phi - s / k)` every cycle, `s = sqrt(C^2 - p^2)`; every leg's end; the full turn's sections when only a middle stage twists | 1 % of a cycle's growth (measured 0.036 % per cycle, 0.13 % after 3.5 cycles) |
+//! | hold | a load on a moved face only in the components its `hold` leaves free; a motion that moves its face only in free components refused | the message names the component |
 //!
 //! The rod: `geo/pile_soil.geo` with `a = 0.1` (L / a = 100: a rod), E =
 //! 3e4, nu = 0 (no Poisson contraction to open the shaft), in a soil 1000
@@ -389,11 +391,11 @@ fn mistakes_in_stages_are_refused_naming_the_stage() {
                 ]),
                 &[],
             ),
-            "stages[1].loads[0].on: 'pile_head' is moved by a `motion` load elsewhere",
+            "stages[1].loads[0].on: 'pile_head' is held in z by a `motion` load elsewhere",
         ),
         (
             base(json!([{"name": "a", "loads": [{"type": "motion", "on": "pile_head", "force": [0, 0, 1]}]}]), &[]),
-            "key `force` does not belong to a motion load (it takes: type, on, displacement, rotation, at_z)",
+            "key `force` does not belong to a motion load (it takes: type, on, displacement, rotation, at_z, hold)",
         ),
         (
             base(json!([{"name": "a", "loads": [{"type": "motion", "on": "pile_head", "displacement": [0, 1]}]}]), &[]),
@@ -645,4 +647,137 @@ fn a_moved_face_takes_the_rigid_motion_it_is_given() {
         "{} vs {torque}",
         r.moment[2]
     );
+}
+
+/// A stiff rod (E = 3e8) in its rigid sleeve on a cohesive shaft joint of
+/// stiffness `k` (both shear components), pulled by `p_frac` of the
+/// shaft's strength and, beside the pull, twisted at its head (a `motion`
+/// that holds r and theta and leaves z free) between `+-phi`, `cycles`
+/// times, then turned back to 0 (the last stage without the twist).
+fn ratchet(p_frac: f64, k: f64, phi: f64, cycles: u32) -> Scene {
+    let law = |c: f64| json!({"type": "mohr_coulomb", "cohesion": c, "friction_deg": 0, "tensile_strength": 0, "shear_check": "resultant"});
+    let pull = p_frac * C * 2.0 * PI * A * 10.0;
+    let twist =
+        |w: f64| json!({"type": "motion", "on": "pile_head", "rotation": [0, 0, w], "hold": ["r", "theta"]});
+    let head = json!({"type": "resultant", "on": "pile_head", "force": [0, 0, pull]});
+    let s = json!({
+        "title": "a pulled rod twisted back and forth",
+        "mesh": {"file": geo("pile_soil.geo"), "parameters": {"a": A, "size": 0.25, "coarsen": 8, "order": 2, "quads": 1}},
+        "materials": {"pile": {"E": 3.0e8, "nu": 0.0}, "soil": {"E": 3.0e11, "nu": 0.3}},
+        "joints": {
+            "pile_side": {"bottom": "pile", "top": "soil", "k_xi": k, "k_eta": 1e3 * k, "k_theta": k, "law": law(C)},
+            "pile_base": {"bottom": "pile", "top": "soil", "k_xi": k, "k_eta": 1e3 * k, "k_theta": k, "law": law(0.0)}
+        },
+        "supports": [{"on": "soil_outer", "fix": "all"}, {"on": "soil_bottom", "fix": "all"}],
+        "stages": [
+            {"name": "pull", "loads": [head], "loading": {"steps": 2}},
+            {"name": "twist", "loads": [head, twist(phi)], "loading": {"steps": 3}},
+            {"name": "cycles", "loads": [head], "cyclic": {"loads": [twist(phi)], "levels": [-1, 1], "cycles": cycles}, "loading": {"steps": 3}},
+            {"name": "untwist", "loads": [head], "loading": {"steps": 3}}
+        ],
+        "harmonics": 0,
+        "solver": {"method": "newton", "epsilon": 1e-9}
+    });
+    Scene::from_str(&s.to_string(), geo("stages_ratchet.json")).expect("scene")
+}
+
+#[test]
+fn a_pulled_rod_twisted_back_and_forth_ratchets_out_by_the_closed_form() {
+    // Every point of the shaft sees the same traction: the pull's
+    // p = P / (2 pi a L) along the rod and, once the twist slips, the
+    // rest of the strength s = sqrt(C^2 - p^2) around it. Slip runs along
+    // the traction (the resultant check), so each reversal of the twist,
+    // 2 a phi less the elastic 2 s / k, slides the rod out by p / s times
+    // the circumferential slip: per cycle `4 (p / s) (a phi - s / k)`.
+    let (p_frac, k) = (0.6, 80.0);
+    let (p, s) = (p_frac * C, C * (1.0 - p_frac * p_frac).sqrt());
+    let phi = 3.0 * s / k / A;
+    let cycles = 3;
+    let run = solve(&ratchet(p_frac, k, phi, cycles));
+    let path = head_path(&run);
+    assert_eq!(path.len(), 2 + 3 + 6 * cycles as usize + 3);
+    // The last stage has no twist: the sections are still the full turn's
+    // (a half set has no torsion).
+    let sections = &run.outcome.as_ref().unwrap().field.sections;
+    assert!(!sections.half, "{} sections over the half turn", sections.len());
+    let slide = |travel: f64| (p / s) * (travel - 2.0 * s / k).max(0.0);
+    // At the end of each leg: pulled, twisted to +phi, then each level.
+    let mut expected = vec![p / k, p / k + slide(A * phi + s / k)];
+    for _ in 0..2 * cycles {
+        let last = *expected.last().unwrap();
+        expected.push(last + slide(2.0 * A * phi));
+    }
+    expected.push(expected.last().unwrap() + slide(A * phi));
+    let ends: Vec<f64> = [1usize, 4]
+        .into_iter()
+        .chain((0..2 * cycles as usize + 1).map(|l| 7 + 3 * l))
+        .map(|i| path[i].2)
+        .collect();
+    let per_cycle = 4.0 * (p / s) * (A * phi - s / k);
+    for (i, (w, e)) in ends.iter().zip(&expected).enumerate() {
+        println!(
+            "leg end {i}: head uz {w:.6e}, closed form {e:.6e} ({:+.3} % of a cycle's growth)",
+            100.0 * (w - e) / per_cycle
+        );
+        assert!((w - e).abs() < 0.01 * per_cycle, "leg end {i}: {w} vs {e}");
+    }
+    // The growth per cycle: the same every cycle, the closed form.
+    for c in 1..cycles as usize {
+        let growth = ends[2 + 2 * c + 1] - ends[2 * c + 1];
+        println!("cycle {c}: growth {growth:.6e}, closed form {per_cycle:.6e}");
+        assert!(
+            (growth / per_cycle - 1.0).abs() < 0.01,
+            "cycle {c}: {growth} vs {per_cycle}"
+        );
+    }
+}
+
+#[test]
+fn a_motion_and_a_load_on_one_face_must_not_meet_in_a_component() {
+    let text = |hold: Value, force: [f64; 3]| {
+        json!({
+            "title": "held",
+            "mesh": {"file": geo("pile_soil.geo"), "parameters": {"a": A, "size": 0.5, "coarsen": 8}},
+            "materials": {"pile": {"E": 3.0e4, "nu": 0.0}, "soil": {"E": 3.0e7, "nu": 0.3}},
+            "supports": [{"on": "soil_outer", "fix": "all"}],
+            "harmonics": 1,
+            "loads": [
+                {"type": "motion", "on": "pile_head", "rotation": [0, 0, 1e-3], "hold": hold},
+                {"type": "resultant", "on": "pile_head", "force": force}
+            ]
+        })
+        .to_string()
+    };
+    let path = geo("held.json");
+    let checked = |t: String| Scene::from_str(&t, &path).and_then(|s| s.check_values().map(|_| s));
+    // z left free: an axial force may act there.
+    if let Err(e) = checked(text(json!(["r", "theta"]), [0.0, 0.0, 1.0])) {
+        panic!("{e}");
+    }
+    // Held in z, or a sideways force on a face held in r: refused, naming
+    // the component.
+    for (hold, force, comp) in [
+        (json!("all"), [0.0, 0.0, 1.0], "z"),
+        (json!(["r", "theta"]), [1.0, 0.0, 0.0], "r"),
+    ] {
+        let e = checked(text(hold, force)).unwrap_err().to_string();
+        println!("{e}");
+        assert!(
+            e.contains("loads[1].on") && e.contains(&format!("held in {comp}")),
+            "{e}"
+        );
+    }
+    // A motion that moves its face only in free components: refused by the
+    // run (it would prescribe nothing).
+    let scene = checked(text(json!(["r", "z"]), [0.0, 0.0, 0.0]));
+    let e = match scene {
+        Ok(s) => solve_scene(&s, None, |_| {})
+            .err()
+            .expect("refused")
+            .error
+            .to_string(),
+        Err(e) => e.to_string(),
+    };
+    println!("{e}");
+    assert!(e.contains("hold") && e.contains("prescribes nothing"), "{e}");
 }

@@ -7,7 +7,7 @@ use axijoint_report::write_report;
 use axijoint_solver::iteration::LoadStep;
 use axijoint_solver::results::{
     read_joint_field, read_solution, AdaptTable, AutoHarmonics, HarmonicCheck, InitialInfo,
-    JointSpringsRecord, PerProfile, StepMeasure, SOLVED_MESH,
+    JointSpringsRecord, PerProfile, StepMeasure, PLASTIC_FIELD, SOLVED_MESH,
 };
 use axijoint_solver::scene::{Loading, Units};
 use serde::{Deserialize, Serialize};
@@ -180,6 +180,9 @@ fn summarize(
     }
     if joints.is_some() {
         files.push("joints.json".into());
+    }
+    if dir.join(PLASTIC_FIELD).is_file() {
+        files.push(PLASTIC_FIELD.into());
     }
     if let Some(i) = &h.initial {
         files.push(i.displacement.file.clone());

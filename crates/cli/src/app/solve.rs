@@ -7,7 +7,7 @@ use anyhow::{Context, Result};
 use axijoint_report::cuts::profile_values;
 use axijoint_solver::error::SolverError;
 use axijoint_solver::iteration::IterationError;
-use axijoint_solver::results::{write_solution, JointFieldFile, SolutionHeader};
+use axijoint_solver::results::{write_solution, JointFieldFile, PlasticFieldFile, SolutionHeader};
 use axijoint_solver::run::{
     last_iterate_header, solution_header, solve_scene, solve_scene_auto, Run, Stopped,
 };
@@ -151,6 +151,11 @@ pub fn write_run(solved: &Scene, run: &Run, msh: &Path, out: &Path) -> Result<So
     let joints = run
         .joint_field(solved)?
         .map(|f| JointFieldFile::new(&model.mesh, &springs, &f));
+    let plastic = run
+        .outcome
+        .as_ref()
+        .and_then(|o| o.body.as_ref())
+        .map(|b| PlasticFieldFile::new(&model.mesh, b));
     write_solution(
         out,
         &header,
@@ -159,13 +164,14 @@ pub fn write_run(solved: &Scene, run: &Run, msh: &Path, out: &Path) -> Result<So
         msh,
         &model.mesh,
         joints.as_ref(),
+        plastic.as_ref(),
     )?;
     Ok(header)
 }
 
 /// Writes the last iterate `last` of a one-shot run that stopped with `e`:
 /// the solution folder marked `"converged": false`, with the error, the
-/// history and the joint field of that iterate.
+/// history, the joint field and the plastic bodies' field of that iterate.
 pub fn write_last_iterate(
     scene: &Scene,
     last: &Run,
@@ -180,6 +186,10 @@ pub fn write_last_iterate(
     let model = &last.problem.model;
     let springs: Vec<_> = model.joints.iter().map(|j| j.springs).collect();
     let joints = JointFieldFile::new(&model.mesh, &springs, &outcome.field);
+    let plastic = outcome
+        .body
+        .as_ref()
+        .map(|b| PlasticFieldFile::new(&model.mesh, b));
     write_solution(
         out,
         &header,
@@ -188,6 +198,7 @@ pub fn write_last_iterate(
         msh,
         &model.mesh,
         Some(&joints),
+        plastic.as_ref(),
     )?;
     Ok(())
 }

@@ -2,14 +2,12 @@
 //! nearest section as cell data.
 
 use super::encoding::{Array, Grid, Values};
-use super::revolution::{cell_type, mid_angle, position, Rings};
+use super::revolution::{cell_type, mid_angle, position, Rings, SectionMap};
 use crate::error::{check_finite, ReportError};
 use crate::field::Field;
 use axijoint_mesh::{JointKind, Mesh};
-use axijoint_solver::fourier::Sections;
 use axijoint_solver::joint_law::JointState;
 use axijoint_solver::results::JointFieldFile;
-use std::f64::consts::PI;
 use std::path::Path;
 
 /// Joint state code: 0 stick, 1 slip, 2 open.
@@ -18,49 +16,6 @@ pub fn state_code(s: JointState) -> i32 {
         JointState::Stick => 0,
         JointState::Slip => 1,
         JointState::Open => 2,
-    }
-}
-
-/// Maps an angle to a section of the joint field: `(section, mirrored)`.
-struct SectionMap {
-    theta: Vec<f64>,
-    half: bool,
-}
-
-impl SectionMap {
-    fn new(jf: &JointFieldFile) -> SectionMap {
-        let theta: Vec<f64> = jf.sections_deg.iter().map(|d| d.to_radians()).collect();
-        // A half-circle set is recognised by its weights (each interior
-        // section stands for +theta and -theta).
-        let half = Sections::half_circle(theta.clone()).is_ok_and(|s| {
-            s.weight.len() == jf.section_weights.len()
-                && s.weight
-                    .iter()
-                    .zip(&jf.section_weights)
-                    .all(|(a, b)| (a - b).abs() <= 1e-9 * (1.0 + b.abs()))
-        });
-        SectionMap { theta, half }
-    }
-
-    fn nearest(&self, t: f64) -> (usize, bool) {
-        let t = t.rem_euclid(2.0 * PI);
-        let (t, mirrored) = if self.half && t > PI {
-            (2.0 * PI - t, true)
-        } else {
-            (t, false)
-        };
-        let dist = |a: f64| {
-            if self.half {
-                (a - t).abs()
-            } else {
-                let d = (a - t).rem_euclid(2.0 * PI);
-                d.min(2.0 * PI - d)
-            }
-        };
-        let best = (0..self.theta.len())
-            .min_by(|&a, &b| dist(self.theta[a]).total_cmp(&dist(self.theta[b])))
-            .unwrap_or(0);
-        (best, mirrored)
     }
 }
 
@@ -104,7 +59,7 @@ pub(super) fn joint_grid(
             .ok_or_else(|| bad(format!("joint '{}' has no element {}", p.joint, p.element)))?;
         slot.push(i);
     }
-    let map = SectionMap::new(jf);
+    let map = SectionMap::new(&jf.sections_deg, &jf.section_weights);
     let mut g = Grid::default();
     let (mut disp, mut disp_top) = (vec![], vec![]);
     let mut cd = JointCellData::default();

@@ -48,8 +48,18 @@
 //!
 //! The nodal stress of a body is the average, over the body's cells at that
 //! node, of each cell's own stress at the node (never across bodies). Cell
-//! data: `body` (index into the mesh's bodies) and `meridional_cell` (index of
-//! the meridional cell the 3D cell was revolved from).
+//! data: `body` (index into the mesh's bodies), `meridional_cell` (index of
+//! the meridional cell the 3D cell was revolved from) and `error_energy`.
+//!
+//! With the plastic bodies' field (`plastic.json`, [`write_vtu_with`]), the
+//! cell of meridional cell c in the slot [theta_k, theta_{k+1}] also has,
+//! over c's Gauss points at the section of that field nearest to the
+//! slot's mid angle (as the joint file; a half-circle set stands for its
+//! mirror image, where both values are the same): `yield_fraction`, the
+//! share of the points that yield (0..1), `plastic_strain_eq`, the mean of
+//! the equivalent plastic strain `sqrt(2/3 eps_p : eps_p)`
+//! ([`equivalent_plastic_strain`](axijoint_solver::results::equivalent_plastic_strain)),
+//! and `plastic_section_deg`, the section used; 0, 0 in an elastic body.
 //!
 //! # The joint file
 //!
@@ -97,6 +107,7 @@
 
 mod encoding;
 mod joints;
+mod plastic;
 mod read;
 mod revolution;
 mod solid;
@@ -111,7 +122,7 @@ pub use transform::stress_to_cartesian;
 use crate::error::ReportError;
 use crate::field::Field;
 use axijoint_mesh::atomic;
-use axijoint_solver::results::JointFieldFile;
+use axijoint_solver::results::{JointFieldFile, PlasticFieldFile};
 use axijoint_solver::scene::Outputs;
 use encoding::{Array, Values};
 use joints::joint_grid;
@@ -132,7 +143,8 @@ pub fn joints_path(path: &Path) -> PathBuf {
 /// documentation for the layout), and, when `joints` is given and the mesh
 /// has joints, the joint surfaces with their state to
 /// [`joints_path`]`(path)` (without a joint field no joint file is written,
-/// and none already there is touched).
+/// and none already there is touched). No plastic cell arrays: see
+/// [`write_vtu_with`].
 ///
 /// `n_sections` must be at least 3. Nothing is written when a value is not
 /// finite ([`ReportError::NotFinite`]), a field name is unknown or the joint
@@ -145,19 +157,33 @@ pub fn write_vtu(
     joints: Option<&JointFieldFile>,
 ) -> Result<(), ReportError> {
     let density = || crate::estimate::Estimate::new(field).cell_density();
-    write_vtu_with(path, field, n_sections, fields, joints, &density, Encoding::Raw)
+    write_vtu_with(
+        path,
+        field,
+        n_sections,
+        fields,
+        joints,
+        None,
+        &density,
+        Encoding::Raw,
+    )
 }
 
-/// [`write_vtu`] with the error estimate's density per cell from `density`
-/// (called once the revolved grid is made: a caller that shares the
-/// estimate lets it be made meanwhile), the arrays stored as `encoding`
-/// says.
+/// [`write_vtu`] with, when `plastic` is given, its cell arrays
+/// `yield_fraction`, `plastic_strain_eq` and `plastic_section_deg` (see the
+/// module documentation), the error estimate's density per cell from
+/// `density` (called once the revolved grid is made: a caller that shares
+/// the estimate lets it be made meanwhile), the arrays stored as
+/// `encoding` says. A plastic field that does not match the mesh fails
+/// with [`ReportError::Input`] before anything is written.
+#[allow(clippy::too_many_arguments)]
 pub fn write_vtu_with(
     path: &Path,
     field: &Field,
     n_sections: usize,
     fields: &[&str],
     joints: Option<&JointFieldFile>,
+    plastic: Option<&PlasticFieldFile>,
     density: &dyn Fn() -> Vec<f64>,
     encoding: Encoding,
 ) -> Result<(), ReportError> {
@@ -178,14 +204,20 @@ pub fn write_vtu_with(
     // The error estimate per cell (docs/accuracy.md), of each cell's
     // meridional cell.
     let density = density();
-    let error: Vec<f64> = match solid.cell_data.iter().find(|a| a.name == "meridional_cell") {
+    let cells: &[i64] = match solid.cell_data.iter().find(|a| a.name == "meridional_cell") {
         Some(Array {
             values: Values::I64(cells),
             ..
-        }) => cells.iter().map(|&c| density[c as usize]).collect(),
-        _ => Vec::new(),
+        }) => cells,
+        _ => &[],
+    };
+    let error: Vec<f64> = cells.iter().map(|&c| density[c as usize]).collect();
+    let plastic = match plastic {
+        Some(pf) => plastic::plastic_arrays(path, field.mesh, pf, cells, n_sections)?,
+        None => Vec::new(),
     };
     solid.cell_data.push(Array::f64("error_energy", 1, error));
+    solid.cell_data.extend(plastic);
     let joint_grid = match joints {
         Some(jf) if !field.mesh.joints.is_empty() => {
             let jpath = joints_path(path);

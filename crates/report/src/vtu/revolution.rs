@@ -2,6 +2,7 @@
 //! lists of revolved cells.
 
 use axijoint_mesh::{CellKind, Mesh};
+use axijoint_solver::fourier::Sections;
 use std::f64::consts::PI;
 
 /// VTK cell type numbers used here.
@@ -128,6 +129,53 @@ fn ring_angle(k: usize, n: usize) -> f64 {
 
 pub(super) fn mid_angle(k: usize, n: usize) -> f64 {
     2.0 * PI * (k as f64 + 0.5) / n as f64
+}
+
+/// Maps an angle to the nearest section of a field known at sections (the
+/// joint field, the plastic bodies' field): `(section, mirrored)`.
+pub(super) struct SectionMap {
+    theta: Vec<f64>,
+    half: bool,
+}
+
+impl SectionMap {
+    /// The sections at `sections_deg` with quadrature `weights`.
+    pub(super) fn new(sections_deg: &[f64], weights: &[f64]) -> SectionMap {
+        let theta: Vec<f64> = sections_deg.iter().map(|d| d.to_radians()).collect();
+        // A half-circle set is recognised by its weights (each interior
+        // section stands for +theta and -theta).
+        let half = Sections::half_circle(theta.clone()).is_ok_and(|s| {
+            s.weight.len() == weights.len()
+                && s.weight
+                    .iter()
+                    .zip(weights)
+                    .all(|(a, b)| (a - b).abs() <= 1e-9 * (1.0 + b.abs()))
+        });
+        SectionMap { theta, half }
+    }
+
+    /// The section nearest `t`, and whether it stands for `t` mirrored
+    /// (`2 pi - t`, a half-circle set with `t > pi`).
+    pub(super) fn nearest(&self, t: f64) -> (usize, bool) {
+        let t = t.rem_euclid(2.0 * PI);
+        let (t, mirrored) = if self.half && t > PI {
+            (2.0 * PI - t, true)
+        } else {
+            (t, false)
+        };
+        let dist = |a: f64| {
+            if self.half {
+                (a - t).abs()
+            } else {
+                let d = (a - t).rem_euclid(2.0 * PI);
+                d.min(2.0 * PI - d)
+            }
+        };
+        let best = (0..self.theta.len())
+            .min_by(|&a, &b| dist(self.theta[a]).total_cmp(&dist(self.theta[b])))
+            .unwrap_or(0);
+        (best, mirrored)
+    }
 }
 
 /// VTK node list of meridional cell `nodes` revolved over slot k.

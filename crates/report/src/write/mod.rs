@@ -18,7 +18,7 @@ use crate::estimate::{self, Estimate};
 use crate::field::{Field, Initial, Locator};
 use crate::record::{history, load_path, materials};
 use axijoint_solver::iteration::IterationRecord;
-use axijoint_solver::results::{read_joint_field, SavedSolution};
+use axijoint_solver::results::{read_joint_field, read_plastic_field, SavedSolution};
 use context::Ctx;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
@@ -78,6 +78,7 @@ pub fn write_report(
     });
     let locator = Locator::new(&saved.mesh);
     let joints = read_joint_field(dir).map_err(|e| ReportError::Input(e.to_string()))?;
+    let plastic = read_plastic_field(dir).map_err(|e| ReportError::Input(e.to_string()))?;
     let history = history(saved);
     let path = load_path(saved);
     // One estimate for the cut errors and the `.vtu`'s cell errors.
@@ -99,8 +100,10 @@ pub fn write_report(
     }
     let views = tasks.len();
     if outputs.vtu {
-        let (field, joints, estimate) = (&field, joints.as_ref(), &estimate);
-        tasks.push(Box::new(move || views::write_vtu(ctx, field, joints, estimate)));
+        let (field, joints, plastic, estimate) = (&field, joints.as_ref(), plastic.as_ref(), &estimate);
+        tasks.push(Box::new(move || {
+            views::write_vtu(ctx, field, joints, plastic, estimate)
+        }));
     }
     if outputs.gmsh_views {
         let field = &field;

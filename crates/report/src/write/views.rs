@@ -6,16 +6,18 @@ use crate::error::ReportError;
 use crate::estimate::Estimate;
 use crate::field::Field;
 use crate::{gmsh_view, vtu};
-use axijoint_solver::results::JointFieldFile;
+use axijoint_solver::results::{JointFieldFile, PlasticFieldFile};
 use axijoint_solver::scene::VtuSections;
 use std::sync::OnceLock;
 
 /// Writes `field.vtu` (and `field_joints.vtu` with a joint field), the
-/// cells' errors from the shared `estimate`; returns the file names.
+/// cells' errors from the shared `estimate`, the plastic cell arrays with a
+/// plastic bodies' field; returns the file names.
 pub(super) fn write_vtu(
     ctx: Ctx,
     field: &Field,
     joints: Option<&JointFieldFile>,
+    plastic: Option<&PlasticFieldFile>,
     estimate: &OnceLock<Estimate>,
 ) -> Result<Vec<String>, ReportError> {
     let outputs = ctx.outputs;
@@ -34,7 +36,9 @@ pub(super) fn write_vtu(
     } else {
         vtu::Encoding::Raw
     };
-    vtu::write_vtu_with(&path, field, n_sections, &fields, joints, &density, encoding)?;
+    vtu::write_vtu_with(
+        &path, field, n_sections, &fields, joints, plastic, &density, encoding,
+    )?;
     let mut files = vec!["field.vtu".to_string()];
     if joints.is_some() && !ctx.saved.mesh.joints.is_empty() {
         files.push(

@@ -3,6 +3,7 @@
 //! | module | integrand | what |
 //! |---|---|---|
 //! | [`cell_values`] | `N`, `dN`, `r`, `w = w_q |det J|` | a cell's shape values and gradients at the points of a rule |
+//! | [`section`] | `B_U^T sigma r`, `B_D^T sigma r` | a solid cell at one circumferential section: physical strain, nodal forces of a stress |
 //! | [`solid`] | `c_m B^T D B r dr dz` | meridional solids T3, T6, Q4, Q8, Q9: stiffness, strain and stress |
 //! | [`joint`] | `c_m B^T T^T k T B r ds` | zero-thickness joints Lin4, Lin6 (the paper's Eqs. 7-9) |
 //! | [`traction`] | `c_m N^T t r ds` | consistent nodal loads of a boundary traction |
@@ -21,6 +22,7 @@
 
 pub mod cell_values;
 pub mod joint;
+pub mod section;
 pub mod solid;
 pub mod traction;
 

@@ -52,6 +52,21 @@ fn joint_name(setup: &Setup, j: usize) -> String {
         .map_or_else(|| "?".into(), |j| j.name.clone())
 }
 
+/// Whether the plastic bodies' part of a section-force residual `f` is
+/// larger than the joints' (always, without joints).
+fn bodies_carry_most(setup: &Setup, f: &[f64]) -> bool {
+    if setup.bodies.is_none() {
+        return false;
+    }
+    let (m, start) = (setup.per_section(), setup.transfer.body_start());
+    let (mut joints, mut bodies) = (0.0, 0.0);
+    for chunk in f.chunks(m) {
+        joints += chunk[..start].iter().map(|v| v * v).sum::<f64>();
+        bodies += chunk[start..].iter().map(|v| v * v).sum::<f64>();
+    }
+    bodies >= joints
+}
+
 /// The joint that carries most of a section-force residual `f`.
 fn worst_joint(setup: &Setup, f: &[f64]) -> usize {
     let n_j = setup.joint_nodes.len();
@@ -207,7 +222,11 @@ pub(super) fn no_equilibrium(
     history: Vec<IterationRecord>,
 ) -> IterationError {
     let worst = worst_joint(setup, f);
-    let joint = joint_name(setup, worst);
+    let joint = if bodies_carry_most(setup, f) {
+        super::types::PLASTIC_BODIES.to_string()
+    } else {
+        joint_name(setup, worst)
+    };
     // A joint much stiffer than its bodies (k h / E >> 1) makes every
     // method that keeps it in K_m crawl (docs/stability.md, case 3), which
     // looks like no equilibrium: not reported as one. Newton assembles it
@@ -216,7 +235,7 @@ pub(super) fn no_equilibrium(
     // k h / E = 10 to 1e4, crates/solver/tests/stiff_limits.rs); a
     // one-shot run's is judged by `one_shot_verdict`.
     let stiffness = joint_stiffness_ratio(setup, worst);
-    if stiffness > STIFF_JOINT && !softened(setup, worst) {
+    if stiffness > STIFF_JOINT && !softened(setup, worst) && joint != super::types::PLASTIC_BODIES {
         return IterationError::StiffJoint {
             last: None,
             joint,
@@ -262,11 +281,17 @@ pub(super) fn unbalanced(
         }
     }
     let worst = (0..yielded.len()).max_by_key(|&j| yielded[j]).unwrap_or(0);
+    let yielding = ev.yielding.iter().filter(|&&y| y).count();
+    let joint = if yielding > 0 && yielded.get(worst).is_none_or(|&n| n == 0) {
+        super::types::PLASTIC_BODIES.to_string()
+    } else {
+        joint_name(setup, worst)
+    };
     IterationError::NoEquilibrium {
         last: None,
-        joint: joint_name(setup, worst),
+        joint,
         reason: format!(
-            "the residual converged, but the reactions miss {:.1} % of the load: the open and sliding joints leave a body free to move (a mechanism), and the displacements grew until rounding made them meaningless",
+            "the residual converged, but the reactions miss {:.1} % of the load: the open and sliding joints or the yielding soil leave a body free to move (a mechanism), and the displacements grew until rounding made them meaningless",
             100.0 * imbalance
         ),
         open,

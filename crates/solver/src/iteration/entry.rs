@@ -63,7 +63,7 @@ pub fn solve<T>(
     settings: &IterationSettings,
     start: Option<&JointStart>,
     stepping: Stepping,
-    observe: impl FnMut(f64, &Displacements, &JointField) -> T,
+    observe: impl FnMut(f64, &Displacements, &JointField, &[crate::loads::HarmonicLoads]) -> T,
     mut progress: impl FnMut(&IterationRecord),
 ) -> Result<Solved<T>, IterationError> {
     let setup = Setup::new(problem, start)?;
@@ -115,7 +115,7 @@ pub fn stress_transfer(
         settings,
         None,
         Stepping::OneShot,
-        |_, _, _| (),
+        |_, _, _, _| (),
         progress,
     )
     .map(|s| s.outcome)

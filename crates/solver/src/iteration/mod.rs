@@ -26,7 +26,9 @@
 //!
 //! - `entry`: [`solve`], the one entry; it chooses one-shot or stepped;
 //! - `setup`: the fixed data of a run (the checked problem, the joint
-//!   points and nodes, the elastic solution);
+//!   points and nodes, the plastic bodies (`body`: their cells, Gauss
+//!   points and nodes, released like the joints: docs/theory.md section 8),
+//!   the elastic solution);
 //! - `transfer`: synthesis S and analysis A between sections and harmonics;
 //! - `sweep`: the fixed data at one load `state` (the load factor and the
 //!   law); one sweep back-substitutes every harmonic;
@@ -41,12 +43,13 @@
 //!
 //! Beneath them `types` (the public types) and `diagnosis` (why a run
 //! stopped); beside them `probe` ([`FixedPoint`], for tests). A module
-//! imports only modules below it: types, eval, transfer, interface, state
+//! imports only modules below it: types, body, eval, transfer, interface, state
 //! <- setup <- attempt, diagnosis <- sweep <- release <- formulation,
 //! precondition <- traction <- newton, fixed_point <- method <- steps <-
 //! entry (probe above traction). This file holds nothing they import.
 
 mod attempt;
+mod body;
 mod diagnosis;
 mod entry;
 mod eval;
@@ -74,6 +77,6 @@ pub use steps::{
 };
 pub use sweep::OBSERVED_UP_TO;
 pub use types::{
-    joint_point_infos, IterationError, IterationRecord, IterationSettings, JointField, JointStart, Method,
-    Outcome, PointInfo, Problem, StageEnd, StageStart,
+    joint_point_infos, BodyField, IterationError, IterationRecord, IterationSettings, JointField, JointStart,
+    Method, Outcome, PointInfo, Problem, StageEnd, StageStart,
 };

@@ -9,11 +9,14 @@ use super::attempt::{Converged, Failure, Start};
 use super::diagnosis::{no_equilibrium, not_converged, unresolved};
 use super::eval::Eval;
 use super::formulation::{Formulation, NEWTON_HALVINGS};
-use super::release::Tangent;
+use super::release::Tangents;
 use super::sweep::Sweep;
 use super::traction::Traction;
 use super::transfer::JointAmplitudes;
 use super::types::{IterationError, IterationRecord, IterationSettings};
+use crate::fourier::{basis_derivative, Family};
+use crate::linear::HarmonicFactor;
+use rayon::prelude::*;
 use std::collections::VecDeque;
 use std::time::Instant;
 
@@ -34,16 +37,77 @@ const NEWTON_ETA_MAX: f64 = 0.3;
 /// every joint is assembled as it is (`k h / E <= 1`), where the identity
 /// is as good as the harmonic-block preconditioner (measured on Scene P at
 /// k_eta h / E = 0.125 to 1).
+///
+/// With plastic bodies it is preconditioned by
+/// `M = -(I + T S K_t^-1 A)`, `K_t = K - (A T S)_mm` the tangent
+/// stiffness of each harmonic and family with the bodies' tangents
+/// (refactorized at every linearization): `J^-1` exactly where the
+/// harmonics do not couple (an axisymmetric plastic zone), by Woodbury's
+/// identity `(I - T W)^-1 = I + T S (K - A T S)^-1 A`.
 pub(super) struct Nodal<'s, 'a> {
     sweep: Sweep<'s, 'a>,
-    tangents: Vec<Tangent>,
+    tangents: Tangents,
+    /// Per harmonic index and family, the factor of `K_t` (none: not
+    /// positive definite, or no plastic point).
+    tangent_factors: Vec<[Option<HarmonicFactor>; 2]>,
 }
 
 impl<'s, 'a> Nodal<'s, 'a> {
     pub(super) fn new(sweep: Sweep<'s, 'a>) -> Self {
         Nodal {
             sweep,
-            tangents: vec![None; sweep.setup.n_pairs()],
+            tangents: Tangents::new(sweep.setup),
+            tangent_factors: Vec::new(),
+        }
+    }
+
+    /// Factorizes the tangent stiffness of every harmonic and family at the
+    /// bodies' tangents (nothing without a yielding point).
+    fn factor_tangents(&mut self) {
+        self.tangent_factors.clear();
+        let setup = self.sweep.setup;
+        let Some(bodies) = &setup.bodies else { return };
+        if self.tangents.bodies.iter().all(Option::is_none) {
+            return;
+        }
+        let sections = setup.sections();
+        let model = setup.model;
+        let jobs: Vec<(usize, usize)> = (0..setup.loads.len())
+            .flat_map(|h| {
+                (0..2)
+                    .filter(move |&k| k == 0 || setup.transfer.both[h])
+                    .map(move |k| (h, k))
+            })
+            .collect();
+        let factors: Vec<Option<HarmonicFactor>> = jobs
+            .par_iter()
+            .map(|&(h, k)| {
+                let m = setup.loads[h].m;
+                let family = if k == 0 {
+                    Family::Symmetric
+                } else {
+                    Family::Antisymmetric
+                };
+                let basis: Vec<_> = sections
+                    .theta
+                    .iter()
+                    .map(|&t| (sections.phi(m, family, t), basis_derivative(m, family, t)))
+                    .collect();
+                let (mut values, pinned) = model.assemble_from_terms(m);
+                bodies.subtract_tangent(
+                    model,
+                    &basis,
+                    &sections.weight,
+                    &self.tangents.bodies,
+                    &pinned,
+                    &mut values,
+                );
+                model.factorize_values(m, &values, pinned).ok()
+            })
+            .collect();
+        self.tangent_factors = (0..setup.loads.len()).map(|_| [None, None]).collect();
+        for ((h, k), f) in jobs.into_iter().zip(factors) {
+            self.tangent_factors[h][k] = f;
         }
     }
 }
@@ -74,6 +138,10 @@ impl Formulation for Nodal<'_, '_> {
 
     fn linearize(&mut self, _y: &[f64], ev: &Eval) {
         self.sweep.tangents(ev, &mut self.tangents);
+        // (Kept for more than one linearization while the plastic zone held
+        // its size to 5 %, the footing of crates/solver/tests/plasticity.rs
+        // took 7 times the solves.)
+        self.factor_tangents();
     }
 
     fn apply_j(&self, z: &[f64], wz: &[f64], out: &mut [f64]) {
@@ -81,8 +149,35 @@ impl Formulation for Nodal<'_, '_> {
         axpy(-1.0, z, out);
     }
 
-    fn precondition(&mut self, _r: &[f64], _released: &mut JointAmplitudes, _out: &mut [f64]) -> bool {
-        false
+    fn precondition(&mut self, r: &[f64], released: &mut JointAmplitudes, out: &mut [f64]) -> bool {
+        if self.tangent_factors.is_empty() {
+            return false;
+        }
+        let setup = self.sweep.setup;
+        setup.transfer.analyse(r, released);
+        // K_t^-1 A r per harmonic and family (K^-1 where K_t is not positive
+        // definite), at the release nodes.
+        let u: JointAmplitudes = released
+            .par_iter()
+            .enumerate()
+            .map(|(h, g)| {
+                std::array::from_fn(|k| {
+                    if k == 1 && !setup.transfer.both[h] {
+                        return vec![0.0; g[k].len()];
+                    }
+                    let factor = self.tangent_factors[h][k].as_ref().unwrap_or(setup.factor_of[h]);
+                    let [u] = setup.solve_release(factor, &[&g[k]]);
+                    u
+                })
+            })
+            .collect();
+        let mut u_s = vec![0.0; r.len()];
+        setup.transfer.synthesize(&u, &mut u_s);
+        self.sweep.apply_tangent(&self.tangents, &u_s, out);
+        for (o, ri) in out.iter_mut().zip(r) {
+            *o = -(ri + *o);
+        }
+        true
     }
 
     fn halvings(&self) -> u32 {
@@ -292,7 +387,8 @@ pub(super) fn newton(
     from: Start,
     progress: &mut dyn FnMut(&IterationRecord),
 ) -> Result<Converged, Box<Failure>> {
-    if sweep.setup.softened() {
+    // (Plastic bodies are released as section forces: the nodal form.)
+    if sweep.setup.softened() && sweep.setup.bodies.is_none() {
         let mut form = Traction::new(*sweep, settings.coupled_max, settings.gmres_first);
         let y0 = form.start(&from);
         solve(sweep, &mut form, y0, settings, from, progress)

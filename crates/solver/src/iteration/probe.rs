@@ -119,7 +119,7 @@ impl<'a> FixedPoint<'a> {
         let mut released = s.transfer.zeros();
         let mut ev = s.new_eval();
         sweep.evaluate(x, &mut released, &mut ev);
-        let mut tangents = vec![None; s.n_pairs()];
+        let mut tangents = super::release::Tangents::new(s);
         sweep.tangents(&ev, &mut tangents);
         let mut w = vec![0.0; s.len()];
         sweep.apply_w(v, &mut released, &mut w);

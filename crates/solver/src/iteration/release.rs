@@ -3,13 +3,15 @@
 //! joint field, [`Sweep::evaluate`]) and the joint tangent of the release
 //! ([`release_tangent`]); the reference `Psi_0` ([`reference_release`]).
 
-use super::eval::{Eval, SectionEval};
+use super::body::Bodies;
+use super::eval::{BodySectionEval, Eval, SectionEval};
 use super::setup::Setup;
 use super::state::{LoadState, Release};
 use super::sweep::Sweep;
 use super::transfer::JointAmplitudes;
 use crate::elements::JointSprings;
 use crate::joint_law::{admissible_trial, history_response, JointState, PointHistory};
+use crate::plasticity::{return_map, Region};
 use crate::scene::{JointLaw, ShearCheck};
 use rayon::prelude::*;
 
@@ -17,6 +19,29 @@ use rayon::prelude::*;
 /// released traction `k d - P(k d)` with respect to the trial traction
 /// `k d`; `None` for a sticking point (nothing released, derivative 0).
 pub(super) type Tangent = crate::joint_law::ReleaseTangent;
+
+/// The body tangent at one (section, body point): the derivative of the
+/// released stress `D eps - sigma(eps)` with respect to the strain, `D -
+/// C` (C the consistent tangent of the return); `None` where the point
+/// stays elastic (nothing released, derivative 0).
+pub(super) type BodyTangent = Option<[[f64; 6]; 6]>;
+
+/// The tangents of every (section, point) pair of the joints and of the
+/// plastic bodies.
+pub(super) struct Tangents {
+    pub(super) joints: Vec<Tangent>,
+    pub(super) bodies: Vec<BodyTangent>,
+}
+
+impl Tangents {
+    /// Zero tangents for the pairs of `setup`.
+    pub(super) fn new(setup: &Setup) -> Self {
+        Tangents {
+            joints: vec![None; setup.n_pairs()],
+            bodies: vec![None; setup.sections().len() * setup.body_points()],
+        }
+    }
+}
 
 /// The derivative of the released traction `e(t) = t - P(t)` of
 /// [`admissible`](crate::joint_law::admissible) (t the trial traction `k d`) at the state it gave:
@@ -221,10 +246,87 @@ impl Sweep<'_, '_> {
         let m = setup.per_section();
         let (u_s, sections) = ev.sections_mut(m, setup.points.len().max(1), setup.min_len());
         sections.for_each(|(s, out)| self.release(s, &u_s[s * m..(s + 1) * m], out));
+        if let Some(bodies) = &setup.bodies {
+            let start = setup.transfer.body_start();
+            let (u_s, sections) = ev.body_sections_mut(m, bodies.n_points().max(1));
+            sections.with_min_len(setup.min_len()).for_each(|(s, out)| {
+                self.release_bodies(bodies, s, &u_s[s * m + start..(s + 1) * m], out);
+            });
+        }
+    }
+
+    /// The return of every plastic body point of section `s` from the
+    /// section's body values `u_b`: the released stress `D eps - sigma`
+    /// as nodal forces into the body part of `out.g`, and the field.
+    fn release_bodies(&self, bodies: &Bodies, s: usize, u_b: &[f64], out: BodySectionEval) {
+        let start = self.setup.transfer.body_start();
+        let g = &mut out.g[start..];
+        g.fill(0.0);
+        let n_b = bodies.n_points();
+        for cell in &bodies.cells {
+            let d = cell.elastic.d_matrix();
+            for q in 0..cell.values.n_points() {
+                let k = cell.first + q;
+                let eps = bodies.strain(cell, q, u_b);
+                let committed = self.state.plastic_of(s * n_b + k);
+                let elastic: [f64; 6] = std::array::from_fn(|c| eps[c] - committed[c]);
+                let trial: [f64; 6] = (d * nalgebra::Vector6::from(elastic)).into();
+                let r = return_map(&cell.elastic, &bodies.criteria[k], trial);
+                if r.region != Region::Elastic {
+                    // D eps - sigma = D eps_p (committed and of the step).
+                    let carried: [f64; 6] = (d * nalgebra::Vector6::from(eps)).into();
+                    let released: [f64; 6] = std::array::from_fn(|c| carried[c] - r.stress[c]);
+                    bodies.scatter(cell, q, &released, g);
+                } else if committed != [0.0; 6] {
+                    let released: [f64; 6] = (d * nalgebra::Vector6::from(committed)).into();
+                    bodies.scatter(cell, q, &released, g);
+                }
+                out.sigma[k] = r.stress;
+                out.plastic[k] = std::array::from_fn(|c| committed[c] + r.plastic_strain[c]);
+                out.yielding[k] = r.region != Region::Elastic;
+            }
+        }
+    }
+
+    /// The tangent of every (section, point) of the joints and the plastic
+    /// bodies at the states of `ev`.
+    pub(super) fn tangents(&self, ev: &Eval, out: &mut Tangents) {
+        self.joint_tangents(ev, &mut out.joints);
+        let Some(bodies) = &self.setup.bodies else { return };
+        let (m, start, n_b) = (
+            self.setup.per_section(),
+            self.setup.transfer.body_start(),
+            bodies.n_points(),
+        );
+        out.bodies
+            .par_chunks_mut(n_b.max(1))
+            .with_min_len(self.setup.min_len())
+            .enumerate()
+            .for_each(|(s, ts)| {
+                let u_b = &ev.u_s[s * m + start..(s + 1) * m];
+                for cell in &bodies.cells {
+                    let d = cell.elastic.d_matrix();
+                    for q in 0..cell.values.n_points() {
+                        let k = cell.first + q;
+                        if !ev.yielding[s * n_b + k] {
+                            ts[k] = None;
+                            continue;
+                        }
+                        let eps = bodies.strain(cell, q, u_b);
+                        let committed = self.state.plastic_of(s * n_b + k);
+                        let elastic: [f64; 6] = std::array::from_fn(|c| eps[c] - committed[c]);
+                        let trial: [f64; 6] = (d * nalgebra::Vector6::from(elastic)).into();
+                        let r = return_map(&cell.elastic, &bodies.criteria[k], trial);
+                        ts[k] = Some(std::array::from_fn(|i| {
+                            std::array::from_fn(|j| d[(i, j)] - r.tangent[i][j])
+                        }));
+                    }
+                }
+            });
     }
 
     /// The joint tangent of every (section, point) at the states of `ev`.
-    pub(super) fn tangents(&self, ev: &Eval, out: &mut [Tangent]) {
+    fn joint_tangents(&self, ev: &Eval, out: &mut [Tangent]) {
         let setup = self.setup;
         let n_p = setup.points.len().max(1);
         out.par_chunks_mut(n_p)
@@ -251,8 +353,38 @@ impl Sweep<'_, '_> {
     }
 
     /// `out = D du_s`: the released section forces of the displacement
-    /// increment `du_s` through the joint tangents (no solve).
-    pub(super) fn apply_tangent(&self, tangents: &[Tangent], du_s: &[f64], out: &mut [f64]) {
+    /// increment `du_s` through the tangents of the joints and the plastic
+    /// bodies (no solve).
+    pub(super) fn apply_tangent(&self, tangents: &Tangents, du_s: &[f64], out: &mut [f64]) {
+        self.apply_joint_tangent(&tangents.joints, du_s, out);
+        let Some(bodies) = &self.setup.bodies else { return };
+        let (m, start, n_b) = (
+            self.setup.per_section(),
+            self.setup.transfer.body_start(),
+            bodies.n_points(),
+        );
+        out.par_chunks_mut(m)
+            .zip(tangents.bodies.par_chunks(n_b.max(1)))
+            .with_min_len(self.setup.min_len())
+            .enumerate()
+            .for_each(|(s, (os, ts))| {
+                let g = &mut os[start..];
+                g.fill(0.0);
+                let du = &du_s[s * m + start..(s + 1) * m];
+                for cell in &bodies.cells {
+                    for q in 0..cell.values.n_points() {
+                        let Some(t) = &ts[cell.first + q] else { continue };
+                        let de = bodies.strain(cell, q, du);
+                        let ds: [f64; 6] = std::array::from_fn(|i| (0..6).map(|j| t[i][j] * de[j]).sum());
+                        bodies.scatter(cell, q, &ds, g);
+                    }
+                }
+            });
+    }
+
+    /// The joint part of [`Sweep::apply_tangent`] (zeroes every section's
+    /// values first).
+    fn apply_joint_tangent(&self, tangents: &[Tangent], du_s: &[f64], out: &mut [f64]) {
         let setup = self.setup;
         let m = setup.per_section();
         let n_p = setup.points.len();

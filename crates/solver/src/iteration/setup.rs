@@ -4,6 +4,7 @@
 //! tractions; and what a joint point does with them (its relative
 //! displacement, the nodal forces of a traction, its trial traction).
 
+use super::body::Bodies;
 use super::eval::Eval;
 use super::interface::Interface;
 use super::transfer::{JointAmplitudes, Transfer};
@@ -28,6 +29,8 @@ pub(super) struct Setup<'a> {
     pub(super) points: Vec<PointInfo>,
     /// Joint nodes (global indices) and each point's nodes in that list.
     pub(super) joint_nodes: Vec<usize>,
+    /// The plastic bodies (none: every body elastic).
+    pub(super) bodies: Option<Bodies>,
     pub(super) local: Vec<Vec<usize>>,
     /// The basis of the loaded harmonics at the sections.
     pub(super) transfer: Transfer<'a>,
@@ -92,8 +95,23 @@ impl<'a> Setup<'a> {
             .collect();
         let ms: Vec<u32> = loads.iter().map(|h| h.m).collect();
         let both: Vec<bool> = loads.iter().map(|h| h.m > 0 && !sections.half).collect();
-        let transfer = Transfer::new(sections, &ms, both, joint_nodes.len(), points.len());
-        let u0 = elastic_amplitudes(model, loads, &factor_of, &transfer.both, &joint_nodes, elastic);
+        let bodies = Bodies::new(model)?;
+        if bodies.is_some() {
+            if let Some(f) = factor_of.iter().find(|f| !f.is_full()) {
+                return Err(IterationError::Setup(format!(
+                    "harmonic {} is factorized only for its joints (the factor memory budget): plastic bodies need whole factors; raise AXIJOINT_FACTOR_MEMORY",
+                    f.m
+                )));
+            }
+        }
+        let (nb, nbp) = bodies.as_ref().map_or((0, 0), |b| (b.nodes.len(), b.n_points()));
+        let transfer = Transfer::new(sections, &ms, both, (joint_nodes.len(), points.len()), (nb, nbp));
+        let release_nodes: Vec<usize> = joint_nodes
+            .iter()
+            .chain(bodies.iter().flat_map(|b| &b.nodes))
+            .copied()
+            .collect();
+        let u0 = elastic_amplitudes(model, loads, &factor_of, &transfer.both, &release_nodes, elastic);
         let base = from.map(|f| {
             let loads: Vec<HarmonicLoads> = loads
                 .iter()
@@ -110,7 +128,7 @@ impl<'a> Setup<'a> {
                 &loads,
                 &factor_of,
                 &transfer.both,
-                &joint_nodes,
+                &release_nodes,
                 Some(f.elastic),
             );
             (loads, u)
@@ -122,6 +140,7 @@ impl<'a> Setup<'a> {
             factor_of,
             points,
             joint_nodes,
+            bodies,
             local,
             transfer,
             u0,
@@ -259,10 +278,19 @@ impl<'a> Setup<'a> {
         self.transfer.min_len()
     }
 
+    /// Plastic body points a section (0 without plastic bodies).
+    pub(super) fn body_points(&self) -> usize {
+        self.bodies.as_ref().map_or(0, Bodies::n_points)
+    }
+
     /// Evaluation buffers (no point broken yet).
     pub(super) fn new_eval(&self) -> Eval {
         let (nx, np) = (self.len(), self.n_pairs());
+        let nb = self.sections().len() * self.body_points();
         Eval {
+            sigma: vec![[0.0; 6]; nb],
+            plastic: vec![[0.0; 6]; nb],
+            yielding: vec![false; nb],
             u_s: vec![0.0; nx],
             g: vec![0.0; nx],
             d: vec![[0.0; 3]; np],
@@ -315,14 +343,52 @@ impl<'a> Setup<'a> {
         }
     }
 
-    /// Adds joint-node values `g` (`3 * joint nodes`) to the global vector
-    /// `out` (`3 * nodes`).
+    /// Adds release-node values `g` (`3 * (joint nodes + body nodes)`) to
+    /// the global vector `out` (`3 * nodes`).
     pub(super) fn add_at_joint_nodes(&self, g: &[f64], out: &mut [f64]) {
-        for (&k, gj) in self.joint_nodes.iter().zip(g.chunks_exact(3)) {
+        let body_nodes = self.bodies.iter().flat_map(|b| &b.nodes);
+        for (&k, gj) in self.joint_nodes.iter().chain(body_nodes).zip(g.chunks_exact(3)) {
             for c in 0..3 {
                 out[3 * k + c] += gj[c];
             }
         }
+    }
+
+    /// Solves `K_m u = f` for forces `f` on the release nodes (`K` right-hand
+    /// sides of `3 * (joint nodes + body nodes)`) and returns `u` there:
+    /// only the joint block of the factor without plastic bodies
+    /// ([`Model::solve_joint`]), a whole solve with them.
+    pub(super) fn solve_release<const K: usize>(
+        &self,
+        factor: &HarmonicFactor,
+        loads: &[&[f64]; K],
+    ) -> [Vec<f64>; K] {
+        if self.bodies.is_none() {
+            return self.model.solve_joint(factor, loads);
+        }
+        let n = 3 * self.model.mesh.nodes.len();
+        let full: Vec<Vec<f64>> = loads
+            .iter()
+            .map(|g| {
+                let mut f = vec![0.0; n];
+                self.add_at_joint_nodes(g, &mut f);
+                f
+            })
+            .collect();
+        let refs: Vec<&[f64]> = full.iter().map(Vec::as_slice).collect();
+        let u = self.model.solve(factor, &refs);
+        std::array::from_fn(|k| self.at_release_nodes(&u[k]))
+    }
+
+    /// The release-node values (`3 * (joint nodes + body nodes)`) of the
+    /// global vector `u` (`3 * nodes`).
+    pub(super) fn at_release_nodes(&self, u: &[f64]) -> Vec<f64> {
+        let body_nodes = self.bodies.iter().flat_map(|b| &b.nodes);
+        self.joint_nodes
+            .iter()
+            .chain(body_nodes)
+            .flat_map(|&k| [u[3 * k], u[3 * k + 1], u[3 * k + 2]])
+            .collect()
     }
 
     /// `Psi = max_s |f_s|` of a residual.
@@ -423,7 +489,7 @@ fn elastic_amplitudes(
     loads: &[HarmonicLoads],
     factor_of: &[&HarmonicFactor],
     both: &[bool],
-    joint_nodes: &[usize],
+    release_nodes: &[usize],
     elastic: Option<&Displacements>,
 ) -> JointAmplitudes {
     model.map_bounded(
@@ -450,9 +516,9 @@ fn elastic_amplitudes(
                 u
             };
             let pick = |k: usize| -> Vec<f64> {
-                let mut out = vec![0.0; 3 * joint_nodes.len()];
+                let mut out = vec![0.0; 3 * release_nodes.len()];
                 if let Some(u) = u.get(k) {
-                    for (j, &node) in joint_nodes.iter().enumerate() {
+                    for (j, &node) in release_nodes.iter().enumerate() {
                         out[3 * j..3 * j + 3].copy_from_slice(&u[3 * node..3 * node + 3]);
                     }
                 }

@@ -41,12 +41,14 @@ use super::diagnosis::unbalanced;
 use super::method;
 use super::release::reference_release;
 use super::setup::Setup;
+use super::state::History;
 use super::state::LoadState;
 use super::sweep::{Sweep, IMBALANCE_TOL};
 use super::types::{
     solves, IterationError, IterationRecord, IterationSettings, JointField, Outcome, StageEnd,
 };
 use crate::joint_law::{commit, exceeds_tensile_strength, state_counts, PointHistory};
+use crate::loads::HarmonicLoads;
 use crate::scene::JointLaw;
 use crate::solution::Displacements;
 use serde::{Deserialize, Serialize};
@@ -165,8 +167,8 @@ pub struct Stepped<T> {
 /// Solves the problem of `setup` by proportional loading with the history
 /// law: the solution at the last converged load factor (the whole load if
 /// the path has no limit; its history is that step's) and the path.
-/// `observe` sees the displacements and joint field of every converged
-/// step: the displacements of harmonics
+/// `observe` sees the displacements, joint field and (with plastic bodies)
+/// the released nodal forces of every converged step: the displacements of harmonics
 /// 0..=[`OBSERVED_UP_TO`](super::sweep::OBSERVED_UP_TO) (the others are
 /// absent), and of every harmonic at the step that reaches the whole load.
 pub(super) fn stepped<T>(
@@ -174,7 +176,7 @@ pub(super) fn stepped<T>(
     control: StepControl,
     settings: &IterationSettings,
     progress: &mut dyn FnMut(&IterationRecord),
-    mut observe: impl FnMut(f64, &Displacements, &JointField) -> T,
+    mut observe: impl FnMut(f64, &Displacements, &JointField, &[HarmonicLoads]) -> T,
 ) -> Result<(Outcome, Stepped<T>, StageEnd), IterationError> {
     // The reference Psi_0: the paper-law release of the elastic solution.
     let mut run = Run {
@@ -275,7 +277,7 @@ pub(super) fn stepped<T>(
 /// displacements if they hold every harmonic), the steps so far, and the
 /// failed attempts since the last converged step and their solves.
 struct Path<T> {
-    committed: Vec<PointHistory>,
+    committed: History,
     x_c: Vec<f64>,
     lam_c: f64,
     last: Option<(Converged, Option<Displacements>)>,
@@ -300,12 +302,15 @@ impl<T> Path<T> {
                 spent: 0,
             };
         }
-        let committed = (0..setup.n_pairs())
-            .map(|k| PointHistory {
-                debonded: setup.start.debonded.get(k).copied().unwrap_or(false),
-                ..PointHistory::default()
-            })
-            .collect();
+        let committed = History {
+            joints: (0..setup.n_pairs())
+                .map(|k| PointHistory {
+                    debonded: setup.start.debonded.get(k).copied().unwrap_or(false),
+                    ..PointHistory::default()
+                })
+                .collect(),
+            plastic: vec![[0.0; 6]; setup.sections().len() * setup.body_points()],
+        };
         Path {
             committed,
             x_c: vec![0.0; setup.len()],
@@ -325,7 +330,7 @@ impl<T> Path<T> {
         &mut self,
         setup: &Setup,
         accepted: Vec<Accepted>,
-        observe: &mut impl FnMut(f64, &Displacements, &JointField) -> T,
+        observe: &mut impl FnMut(f64, &Displacements, &JointField, &[HarmonicLoads]) -> T,
     ) -> (bool, Option<(f64, IterationError)>) {
         let mut easy = true;
         for (target, conv, rounds, hist) in accepted {
@@ -344,10 +349,11 @@ impl<T> Path<T> {
                 return (easy, Some((target, e)));
             }
             let field = sweep.field(&conv.ev);
+            let released = sweep.released_loads(&conv.x);
             self.committed = hist;
             self.lam_c = target;
             self.x_c.clone_from(&conv.x);
-            let observed = observe(self.lam_c, &displacements, &field);
+            let observed = observe(self.lam_c, &displacements, &field, &released);
             let (open, slip, stick) = state_counts(&conv.ev.state);
             let iterations = conv.history.len();
             easy &= iterations <= EASY_ITERATIONS;
@@ -412,8 +418,9 @@ impl<T> Path<T> {
 /// The committed history after converged step `conv` from its trial
 /// history `hist` (the committed one with the step's debonded points),
 /// with the step's plastic slip.
-fn commit_history(setup: &Setup, mut hist: Vec<PointHistory>, conv: &Converged) -> Vec<PointHistory> {
-    for (i, h) in hist.iter_mut().enumerate() {
+fn commit_history(setup: &Setup, mut hist: History, conv: &Converged) -> History {
+    hist.plastic.clone_from(&conv.ev.plastic);
+    for (i, h) in hist.joints.iter_mut().enumerate() {
         let springs = setup.springs(i);
         commit(
             &springs,
@@ -439,7 +446,7 @@ fn start_after(setup: &Setup, conv: Option<&Converged>, psi_ref: f64) -> Start {
 }
 
 /// A converged step: its load factor, solution, rounds, committed history.
-type Accepted = (f64, Converged, u32, Vec<PointHistory>);
+type Accepted = (f64, Converged, u32, History);
 
 /// What an attempt at a step gave.
 enum Taken {
@@ -454,7 +461,7 @@ enum Taken {
 /// (none before the first).
 #[derive(Clone, Copy)]
 struct Base<'p> {
-    history: &'p [PointHistory],
+    history: &'p History,
     conv: Option<&'p Converged>,
 }
 
@@ -493,7 +500,7 @@ impl Run<'_, '_, '_> {
                     epsilon: settings.epsilon.max(PATH_ACCURACY * PATH_TOL),
                     ..*settings
                 };
-                let mut trial = base.history.to_vec();
+                let mut trial = base.history.clone();
                 let start = start_after(self.setup, base.conv, self.psi_ref);
                 let (conv, rounds) =
                     self.solve_step(target, &mut trial, start, if check { &loose } else { settings })?;
@@ -528,7 +535,7 @@ impl Run<'_, '_, '_> {
     fn keep(
         &mut self,
         whole: Accepted,
-        loose: Option<Vec<PointHistory>>,
+        loose: Option<History>,
         settings: &IterationSettings,
     ) -> Result<Taken, IterationError> {
         let (lambda, conv, rounds, hist) = whole;
@@ -549,7 +556,7 @@ impl Run<'_, '_, '_> {
     fn polish(
         &mut self,
         lambda: f64,
-        mut trial: Vec<PointHistory>,
+        mut trial: History,
         mut conv: Converged,
         rounds: u32,
         settings: &IterationSettings,
@@ -575,7 +582,7 @@ impl Run<'_, '_, '_> {
         at: (f64, f64),
         settings: &IterationSettings,
     ) -> Result<(Accepted, Accepted), IterationError> {
-        let mut h1 = base.history.to_vec();
+        let mut h1 = base.history.clone();
         let start = start_after(self.setup, base.conv, self.psi_ref);
         let (c1, r1) = self.solve_step(at.0, &mut h1, start, settings)?;
         let h1 = commit_history(self.setup, h1, &c1);
@@ -592,7 +599,7 @@ impl Run<'_, '_, '_> {
     fn solve_step(
         &mut self,
         lambda: f64,
-        history: &mut [PointHistory],
+        history: &mut History,
         mut start: Start,
         settings: &IterationSettings,
     ) -> Result<(Converged, u32), IterationError> {
@@ -608,11 +615,12 @@ impl Run<'_, '_, '_> {
             })?;
             // The intact pairs above their tensile strength.
             let n_p = setup.points.len().max(1);
-            let breaking: Vec<usize> = (0..history.len())
+            let joints = &history.joints;
+            let breaking: Vec<usize> = (0..joints.len())
                 .filter(|&i| {
                     let info = &setup.points[i % n_p];
-                    let t = setup.trial(info.joint, conv.ev.d[i], Some(&history[i]), setup.t0(i));
-                    exceeds_tensile_strength(&setup.laws[info.joint], t[1], &history[i])
+                    let t = setup.trial(info.joint, conv.ev.d[i], Some(&joints[i]), setup.t0(i));
+                    exceeds_tensile_strength(&setup.laws[info.joint], t[1], &joints[i])
                 })
                 .collect();
             // Debonding takes only the tensile strength: where it is 0 the law
@@ -622,7 +630,7 @@ impl Run<'_, '_, '_> {
                 .filter(|&&i| has_tensile_strength(&setup.laws[setup.points[i % n_p].joint]))
                 .count();
             for i in breaking {
-                history[i].debonded = true;
+                history.joints[i].debonded = true;
             }
             records.append(&mut conv.history);
             if debonded == 0 {
@@ -642,11 +650,16 @@ impl Run<'_, '_, '_> {
 /// tensile strength to lose: only then does the answer depend on where in
 /// the step it debonded (debonding takes nothing else, so a pair without
 /// one behaves the same intact or debonded).
-fn lost_strength(setup: &Setup, committed: &[PointHistory], trial: &[PointHistory]) -> bool {
+fn lost_strength(setup: &Setup, committed: &History, trial: &History) -> bool {
     let n_p = setup.points.len().max(1);
-    committed.iter().zip(trial).enumerate().any(|(i, (c, t))| {
-        t.debonded && !c.debonded && has_tensile_strength(&setup.laws[setup.points[i % n_p].joint])
-    })
+    committed
+        .joints
+        .iter()
+        .zip(&trial.joints)
+        .enumerate()
+        .any(|(i, (c, t))| {
+            t.debonded && !c.debonded && has_tensile_strength(&setup.laws[setup.points[i % n_p].joint])
+        })
 }
 
 /// Whether a law has a tensile strength to lose.

@@ -62,9 +62,9 @@ impl<'s, 'a> Sweep<'s, 'a> {
             .map(|(h, (g, factor))| {
                 // A harmonic without an antisymmetric family solves one family.
                 let mut u = if setup.transfer.both[h] {
-                    setup.model.solve_joint(factor, &[&g[0], &g[1]])
+                    setup.solve_release(factor, &[&g[0], &g[1]])
                 } else {
-                    let [s] = setup.model.solve_joint(factor, &[&g[0]]);
+                    let [s] = setup.solve_release(factor, &[&g[0]]);
                     let zero = vec![0.0; s.len()];
                     [s, zero]
                 };
@@ -186,6 +186,31 @@ impl<'s, 'a> Sweep<'s, 'a> {
         Displacements { harmonics }
     }
 
+    /// The released forces `A x` of released section forces `x` as nodal
+    /// loads of every harmonic (all nodes; empty without plastic bodies:
+    /// the joints' sit on joint nodes no support holds in practice). A
+    /// reaction is `K u - f - A x` at a supported DOF.
+    pub(super) fn released_loads(&self, x: &[f64]) -> Vec<HarmonicLoads> {
+        let setup = self.setup;
+        if setup.bodies.is_none() {
+            return Vec::new();
+        }
+        let n = setup.model.mesh.nodes.len();
+        let mut released = setup.transfer.zeros();
+        setup.transfer.analyse(x, &mut released);
+        setup
+            .loads
+            .iter()
+            .zip(&released)
+            .map(|(h, g)| {
+                let mut out = HarmonicLoads::zeros(h.m, n);
+                setup.add_at_joint_nodes(&g[0], &mut out.symmetric);
+                setup.add_at_joint_nodes(&g[1], &mut out.antisymmetric);
+                out
+            })
+            .collect()
+    }
+
     /// The force and moment that the displacements `u` of released section
     /// forces `x` leave unbalanced, relative to the size of the load
     /// (`sum |lambda F|`, times the mesh's extent for moments): the
@@ -229,15 +254,19 @@ impl<'s, 'a> Sweep<'s, 'a> {
                 (&d.antisymmetric, f.antisymmetric, &mut v.antisymmetric),
             ];
             for (k, (ud, fk, out)) in families.into_iter().enumerate() {
+                // The loads, and at the supports the reactions K u - A x.
+                let mut ax = vec![0.0; fk.len()];
+                setup.add_at_joint_nodes(&released[h][k], &mut ax);
                 *out = fk;
-                setup.add_at_joint_nodes(&released[h][k], out);
                 let ku = ud
                     .iter()
                     .any(|&v| v != 0.0)
                     .then(|| setup.model.support_forces(load.m, ud));
-                for (dof, o) in out.iter_mut().enumerate() {
+                // (The internal forces K u - A x: at a free DOF they are the
+                // load, and their resultant over every DOF is zero.)
+                for (dof, (o, a)) in out.iter_mut().zip(&ax).enumerate() {
                     if setup.model.dofs.is_supported(dof) {
-                        *o = ku.as_ref().map_or(0.0, |ku| ku[dof]);
+                        *o = ku.as_ref().map_or(0.0, |ku| ku[dof]) - a;
                     }
                 }
             }
@@ -291,9 +320,32 @@ impl<'s, 'a> Sweep<'s, 'a> {
         Outcome {
             released_spectrum: self.setup.transfer.spectrum(&conv.ev.g),
             field: self.field(&conv.ev),
+            body: self.body_field(&conv.ev),
+            released: self.released_loads(&conv.x),
             displacements,
             history: conv.history,
         }
+    }
+
+    /// The plastic bodies' field of an evaluation.
+    pub(super) fn body_field(&self, ev: &Eval) -> Option<super::types::BodyField> {
+        let bodies = self.setup.bodies.as_ref()?;
+        let mut points = Vec::with_capacity(bodies.n_points());
+        let mut cells = Vec::with_capacity(bodies.n_points());
+        for cell in &bodies.cells {
+            for q in 0..cell.values.n_points() {
+                points.push(cell.values.position(q));
+                cells.push(cell.cell);
+            }
+        }
+        Some(super::types::BodyField {
+            sections: self.setup.sections().clone(),
+            points,
+            cells,
+            sigma: ev.sigma.clone(),
+            plastic: ev.plastic.clone(),
+            yielding: ev.yielding.clone(),
+        })
     }
 
     /// The joint field of an evaluation.
@@ -305,7 +357,7 @@ impl<'s, 'a> Sweep<'s, 'a> {
             p: ev.p.clone(),
             state: ev.state.clone(),
             debonded: match self.state.history {
-                Some(h) => h.iter().map(|h| h.debonded).collect(),
+                Some(h) => h.joints.iter().map(|h| h.debonded).collect(),
                 None => ev.broken.clone(),
             },
         }

@@ -66,13 +66,13 @@ pub struct StageEnd {
     pub(super) ev: super::eval::Eval,
     pub(super) records: Vec<IterationRecord>,
     /// The committed history of every (section, point) pair.
-    pub(super) history: Vec<crate::joint_law::PointHistory>,
+    pub(super) history: super::state::History,
 }
 
 impl std::fmt::Debug for StageEnd {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("StageEnd")
-            .field("pairs", &self.history.len())
+            .field("pairs", &self.history.joints.len())
             .finish_non_exhaustive()
     }
 }
@@ -249,13 +249,52 @@ pub struct Outcome {
     pub history: Vec<IterationRecord>,
     /// Joint field at the solution.
     pub field: JointField,
+    /// The plastic bodies' field at the solution (none: every body elastic).
+    pub body: Option<BodyField>,
+    /// With plastic bodies, the released forces `A x` at the solution as
+    /// nodal loads per harmonic (empty without): the reactions are `K u -
+    /// f - A x` at the supports.
+    pub released: Vec<crate::loads::HarmonicLoads>,
+}
+
+/// The field of the plastic bodies at every (section, Gauss point) pair
+/// (index `s * points + q`, the points cell by cell).
+#[derive(Clone, Debug, PartialEq)]
+pub struct BodyField {
+    /// The sections.
+    pub sections: Sections,
+    /// Each point's position `(r, z)`.
+    pub points: Vec<[f64; 2]>,
+    /// Each point's cell (index into the mesh's cells).
+    pub cells: Vec<usize>,
+    /// The stress `(s_r, s_z, s_th, t_rz, t_rth, t_zth)` (with the initial
+    /// stress).
+    pub sigma: Vec<[f64; 6]>,
+    /// The plastic strain (engineering shears).
+    pub plastic: Vec<[f64; 6]>,
+    /// Whether the point yields.
+    pub yielding: Vec<bool>,
+}
+
+/// The `joint` of [`IterationError::NoEquilibrium`] when the plastic bodies
+/// carry most of the unbalanced force.
+pub const PLASTIC_BODIES: &str = "(plastic bodies)";
+
+/// Who carries most of an unbalanced force: `joint 'name'`, or the plastic
+/// bodies ([`PLASTIC_BODIES`]).
+fn blame(joint: &str) -> String {
+    if joint == PLASTIC_BODIES {
+        "the yielding soil (the plastic bodies)".into()
+    } else {
+        format!("joint '{joint}'")
+    }
 }
 
 /// Why the iteration stopped without a solution.
 #[derive(Debug, thiserror::Error)]
 pub enum IterationError {
     /// The load exceeds what the joints can carry (the residual stalls or grows).
-    #[error("no equilibrium: {reason}; joint '{joint}' carries most of the unbalanced force (all joints: {open} open and {slip} slipping of {total} point-sections at iteration {iteration})")]
+    #[error("no equilibrium: {reason}; {} carries most of the unbalanced force (all joints: {open} open and {slip} slipping of {total} point-sections at iteration {iteration})", blame(joint))]
     NoEquilibrium {
         /// The joint with the largest residual.
         joint: String,

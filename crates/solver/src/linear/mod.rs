@@ -118,6 +118,10 @@ pub struct Model {
     pub dofs: DofMap,
     /// Support flags per node DOF.
     pub fixed: Vec<bool>,
+    /// The yield criterion of each body (index as `mesh.bodies`); none:
+    /// elastic (the default of [`Model::new`]). Released by the iteration
+    /// as the joints' tractions are.
+    pub plasticity: Vec<Option<crate::scene::Plasticity>>,
     pattern: Pattern,
     symbolic: Arc<SymbolicCholesky<usize>>,
     /// Nodes of the joint elements (sorted).
@@ -195,6 +199,7 @@ impl Model {
         }
         let symbolic = symbolic_with_last(&pattern, &trailing, &trail_pos)?;
         Ok(Model {
+            plasticity: vec![None; mesh.bodies.len()],
             mesh,
             materials,
             joints,

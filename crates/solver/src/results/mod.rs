@@ -7,6 +7,7 @@
 //! DIR/mesh.msh          the mesh that was solved (gmsh's output, or a copy of the input .msh)
 //! DIR/mesh_solved.msh   that mesh with the joints inserted: node k is row k of displacement.f64
 //! DIR/joints.json       joint field per point and section (nonlinear runs)
+//! DIR/plastic.json      plastic bodies' field per Gauss point and section (runs with plastic bodies)
 //! ```
 //!
 //! A folder is written beside the target under a temporary name and renamed
@@ -23,9 +24,11 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 mod joints;
+mod plastic;
 mod record;
 
 pub use joints::*;
+pub use plastic::*;
 pub use record::*;
 
 /// Identifies the header.
@@ -208,7 +211,10 @@ fn output_error(path: &Path, message: impl std::fmt::Display, fault: OutputFault
 }
 
 /// Writes a solution folder at `dir` (see the module doc). `msh` is the mesh
-/// file to copy in, `mesh` the mesh solved from it (joints inserted).
+/// file to copy in, `mesh` the mesh solved from it (joints inserted);
+/// `joints` and `plastic` are written when given. Nothing is written when a
+/// displacement or a value of `plastic` is not finite.
+#[allow(clippy::too_many_arguments)]
 pub fn write_solution(
     dir: &Path,
     header: &SolutionHeader,
@@ -217,6 +223,7 @@ pub fn write_solution(
     msh: &Path,
     mesh: &Mesh,
     joints: Option<&JointFieldFile>,
+    plastic: Option<&PlasticFieldFile>,
 ) -> Result<(), SolverError> {
     for h in &u.harmonics {
         if h.symmetric.iter().chain(&h.antisymmetric).any(|v| !v.is_finite()) {
@@ -229,6 +236,18 @@ pub fn write_solution(
                 OutputFault::NotFinite,
             ));
         }
+    }
+    if let Some((s, p)) = plastic.and_then(PlasticFieldFile::first_non_finite) {
+        let what = if s == usize::MAX {
+            "a section or a point position".to_string()
+        } else {
+            format!("point {p}, section {s}")
+        };
+        return Err(output_error(
+            dir,
+            format!("the plastic field is not finite at {what}; nothing written"),
+            OutputFault::NotFinite,
+        ));
     }
     if dir.exists() {
         let reusable = dir.join("solution.json").is_file()
@@ -288,6 +307,10 @@ pub fn write_solution(
             let path = stage.join("joints.json");
             let text = serde_json::to_string(field).map_err(|e| out_err(&path, e))?;
             std::fs::write(&path, text).map_err(|e| out_err(&path, e))?;
+        }
+        if let Some(field) = plastic {
+            let path = stage.join(PLASTIC_FIELD);
+            write_plastic_field(&path, field).map_err(|e| out_err(&path, e))?;
         }
         let json = stage.join("solution.json");
         let text = serde_json::to_string_pretty(header).map_err(|e| out_err(&json, e))?;

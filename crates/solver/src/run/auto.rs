@@ -39,7 +39,7 @@ pub fn solve_scene_auto(
         .unwrap_or(0)
         .max(u32::from(seismic));
     let mut sc = scene.clone();
-    if !scene.has_nonlinear_joints() {
+    if !scene.is_nonlinear() {
         sc.harmonics = loaded.into();
         let mut run = solve_scene(&sc, keep_msh, progress)?;
         run.auto_steps = vec![AutoStep {
@@ -62,7 +62,7 @@ pub fn solve_scene_auto(
         None
     };
     loop {
-        let sections = scene_sections(&sc, &loads)?;
+        let sections = scene_sections(&sc, &problem.model, &loads)?;
         let start = Start {
             problem: &problem,
             loads: &loads,

@@ -94,8 +94,9 @@ pub(super) fn check_cost(scene: &crate::scene::Scene, model: &Model, n: usize) -
 /// revolved `field.vtu` (about 120 bytes per node and ring of points:
 /// `max(16, 8 M)` rings by default, two per section of
 /// `outputs.vtu_sections` at most) and the gmsh views (about 700 bytes per
-/// node). Measured on Scene P; the CSV files and plots are small beside
-/// them.
+/// node), and with plastic bodies their field (`plastic.json`, about 230
+/// bytes per Gauss point and section). Measured on Scene P; the CSV files
+/// and plots are small beside them.
 pub fn output_bytes(scene: &crate::scene::Scene, nodes: usize) -> u64 {
     use crate::scene::VtuSections;
     let (n, m) = (nodes as u64, scene.harmonics() as u64);
@@ -109,6 +110,11 @@ pub fn output_bytes(scene: &crate::scene::Scene, nodes: usize) -> u64 {
     }
     if scene.outputs.gmsh_views {
         bytes += 700 * n;
+    }
+    if scene.has_plastic_bodies() {
+        // plastic.json: about 230 B per (Gauss point, section) pair, 2.25
+        // Gauss points per node (Q9), 4M sections (or one).
+        bytes += 230 * 9 * n / 4 * (4 * m).max(1);
     }
     bytes
 }

@@ -73,7 +73,7 @@ pub fn initial_phase(
         let traction = linear_tractions(model, &points, &d, Some(&il.traction));
         (u, 0, traction, vec![false; n_points])
     } else {
-        let sections = scene_sections(scene, loads)?;
+        let sections = scene_sections(scene, model, loads)?;
         let start = JointStart {
             traction: il.traction.repeat(sections.len()),
             debonded: vec![false; sections.len() * n_points],
@@ -95,9 +95,15 @@ pub fn initial_phase(
             from: None,
         };
         let loading = scene.solver.loading.into();
-        let solved =
-            crate::iteration::solve(&problem, &settings, Some(&start), loading, |_, _, _| (), progress)
-                .map_err(failed)?;
+        let solved = crate::iteration::solve(
+            &problem,
+            &settings,
+            Some(&start),
+            loading,
+            |_, _, _, _| (),
+            progress,
+        )
+        .map_err(failed)?;
         if let Some(limit) = solved.stepped.and_then(|s| s.limit) {
             return Err(SolverError::InitialPhase {
                 message: format!(

@@ -131,7 +131,7 @@ impl Run {
         if model.mesh.joints.is_empty() {
             return Ok(None);
         }
-        let sections = scene_sections(scene, &self.loads)?;
+        let sections = scene_sections(scene, model, &self.loads)?;
         let t0 = self.initial.as_ref().map(|i| i.traction.as_slice());
         Ok(Some(Cow::Owned(linear_joint_field(
             model,
@@ -187,7 +187,7 @@ pub fn solve_scene(
     keep_msh: Option<&Path>,
     mut progress: impl FnMut(&IterationRecord),
 ) -> Result<Run, Box<Stopped>> {
-    let e = elastic::elastic(scene, keep_msh, scene.has_nonlinear_joints())?;
+    let e = elastic::elastic(scene, keep_msh, scene.is_nonlinear())?;
     let t = Instant::now();
     let initial = if scene.has_initial_phase() {
         Some(initial_phase(scene, &e.problem, &e.load.loads, &mut progress)?)

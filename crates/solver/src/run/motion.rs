@@ -22,18 +22,24 @@ use crate::scene::{Load, Scene};
 /// the faces its `motion` loads move.
 pub(crate) fn loads_on(scene: &Scene, model: &Model, m_max: u32) -> Result<Vec<HarmonicLoads>, SolverError> {
     let mut loads = assemble_loads(scene, &model.mesh, m_max)?;
-    add_motions(scene, model, &mut loads);
+    add_motions(scene, model, &mut loads)?;
     Ok(loads)
 }
 
 /// Adds the displacements of the faces `scene.loads` move, and their
-/// equivalent forces, to `loads`.
-fn add_motions(scene: &Scene, model: &Model, loads: &mut [HarmonicLoads]) {
+/// equivalent forces, to `loads`: in the components each motion's `hold`
+/// holds (the others are left to the solution: a smooth rigid pile is
+/// held in r only). A motion that would prescribe nothing that way is
+/// refused.
+fn add_motions(scene: &Scene, model: &Model, loads: &mut [HarmonicLoads]) -> Result<(), SolverError> {
     let mesh = &model.mesh;
     let n = 3 * mesh.nodes.len();
     let mut any = false;
-    for load in &scene.loads {
+    for (i, load) in scene.loads.iter().enumerate() {
         let Load::Motion(mo) = load else { continue };
+        let held = mo.hold.components();
+        let mut moves_held = false;
+        let moving = mo.displacement != [0.0; 3] || mo.rotation != [0.0; 3];
         let nodes = super::model::support_nodes(mesh, &mo.on);
         if nodes.is_empty() {
             continue;
@@ -53,20 +59,42 @@ fn add_motions(scene: &Scene, model: &Model, loads: &mut [HarmonicLoads]) {
             for &k in &nodes {
                 let [r, z] = mesh.nodes[k];
                 let zp = z - z_c;
-                let (sym, anti) = if h.m == 0 {
+                let (mut sym, mut anti) = if h.m == 0 {
                     ([0.0, tz, wz * r], [0.0; 3])
                 } else {
                     let (a, b) = (tx + wy * zp, ty - wx * zp);
                     ([a, -wy * r, -a], [b, wx * r, -b])
                 };
+                // A free component is left to the solution.
+                for (c, &is_held) in held.iter().enumerate() {
+                    let moves = sym[c] != 0.0 || anti[c] != 0.0;
+                    if is_held {
+                        moves_held |= moves;
+                    } else {
+                        sym[c] = 0.0;
+                        anti[c] = 0.0;
+                    }
+                }
                 p.displacement[0][3 * k..3 * k + 3].copy_from_slice(&sym);
                 p.displacement[1][3 * k..3 * k + 3].copy_from_slice(&anti);
             }
             any = true;
         }
+        if moving && !moves_held && !nodes.is_empty() {
+            return Err(scene
+                .invalid(
+                    format!("loads[{i}].hold"),
+                    format!(
+                        "the motion moves '{}' only in components its `hold` ({}) leaves free, so it prescribes nothing: hold the components it moves",
+                        mo.on,
+                        mo.hold.names().join(", ")
+                    ),
+                )
+                .into());
+        }
     }
     if !any {
-        return;
+        return Ok(());
     }
     for h in loads.iter_mut() {
         let Some(p) = h.prescribed.as_mut() else { continue };
@@ -77,4 +105,5 @@ fn add_motions(scene: &Scene, model: &Model, loads: &mut [HarmonicLoads]) {
             }
         }
     }
+    Ok(())
 }

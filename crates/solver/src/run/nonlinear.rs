@@ -59,7 +59,7 @@ pub(super) fn iterate(
     let mesh = &model.mesh;
     let springs: Vec<_> = model.joints.iter().map(|j| j.springs).collect();
     let member_bodies = member_bodies(scene, mesh);
-    let observe = |lambda: f64, u: &Displacements, field: &JointField| {
+    let observe = |lambda: f64, u: &Displacements, field: &JointField, _: &[HarmonicLoads]| {
         let d = padded(u, all);
         let file = JointFieldFile::new(mesh, &springs, field);
         StepMeasure {
@@ -109,12 +109,12 @@ pub(super) fn finish(
     // The run's displacements are the elastic ones until the solution.
     let mut run = Run::new(problem, load);
     run.initial = initial;
-    if !scene.has_nonlinear_joints() || run.problem.model.mesh.joints.is_empty() {
+    if !scene.is_nonlinear() || (run.problem.model.mesh.joints.is_empty() && !scene.has_plastic_bodies()) {
         run.reactions = reactions(scene, &run.problem.model, &run.loads, &run.displacements);
         run.timings.solve += t.elapsed().as_secs_f64();
         return Ok(run);
     }
-    let sections = scene_sections(scene, &run.loads)?;
+    let sections = scene_sections(scene, &run.problem.model, &run.loads)?;
     let m = scene.harmonics();
     let start = Start {
         problem: &run.problem,
@@ -185,11 +185,27 @@ pub(super) fn finish(
     run.reactions = reactions(
         scene,
         &run.problem.model,
-        &scaled(&run.loads, lambda),
+        &with_released(scaled(&run.loads, lambda).into_owned(), &outcome.released),
         &run.displacements,
     );
     run.outcome = Some(outcome);
     run.load_path = load_path;
     run.stage_ends = ends;
     Ok(run)
+}
+
+/// `loads` plus the released forces of plastic bodies (`released`, per
+/// harmonic; empty: none): the forces a reaction `K u - f` balances.
+pub(super) fn with_released(mut loads: Vec<HarmonicLoads>, released: &[HarmonicLoads]) -> Vec<HarmonicLoads> {
+    for r in released {
+        if let Some(h) = loads.iter_mut().find(|h| h.m == r.m) {
+            for (a, b) in h.symmetric.iter_mut().zip(&r.symmetric) {
+                *a += b;
+            }
+            for (a, b) in h.antisymmetric.iter_mut().zip(&r.antisymmetric) {
+                *a += b;
+            }
+        }
+    }
+    loads
 }

@@ -199,7 +199,7 @@ pub(super) fn iterate_stages(
                 end,
             }),
         };
-        let observe = |lambda: f64, u: &Displacements, field: &JointField| {
+        let observe = |lambda: f64, u: &Displacements, field: &JointField, released: &[HarmonicLoads]| {
             let d = padded(u, all);
             let file = JointFieldFile::new(mesh, &springs, field);
             let at = combine_loads(1.0, &base, lambda, &step_all);
@@ -216,7 +216,12 @@ pub(super) fn iterate_stages(
             let dissipated = slip_work(last_field.get_or_insert_with(start), field, &springs);
             // A moved face takes its reaction.
             let held = if faces.iter().any(|l| matches!(l, Load::Motion(_))) {
-                super::measures::reactions(scene, model, &at, &d)
+                super::measures::reactions(
+                    scene,
+                    model,
+                    &super::nonlinear::with_released(at.clone(), released),
+                    &d,
+                )
             } else {
                 Vec::new()
             };

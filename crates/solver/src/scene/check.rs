@@ -43,7 +43,7 @@ fn uses_identifier(text: &str, name: &str) -> bool {
 }
 
 impl Scene {
-    pub(super) fn invalid(&self, key: impl Into<String>, message: impl Into<String>) -> SceneError {
+    pub(crate) fn invalid(&self, key: impl Into<String>, message: impl Into<String>) -> SceneError {
         SceneError::Invalid {
             path: self.path.clone(),
             key: key.into(),
@@ -97,6 +97,27 @@ impl Scene {
             }
             if let Some(init) = &mat.initial_stress {
                 self.check_initial_stress(name, init)?;
+            }
+            if let Some(p) = &mat.plasticity {
+                if self.has_initial_phase() {
+                    return Err(self.invalid(
+                        format!("materials.{name}.plasticity"),
+                        "a plastic material with an initial phase (a material's `initial_stress`) is not supported yet: the bodies would have to start from the phase's stress",
+                    ));
+                }
+                let key = |k: &str| format!("materials.{name}.plasticity.{k}");
+                for (k, v) in p.numbers() {
+                    self.finite(&key(k), &[v])?;
+                }
+                let z_ref = match *p {
+                    super::Plasticity::Tresca { z_ref, .. } | super::Plasticity::VonMises { z_ref, .. } => {
+                        z_ref
+                    }
+                    super::Plasticity::MohrCoulomb { .. } => 0.0,
+                };
+                if let Err(e) = p.at(z_ref).validate() {
+                    return Err(self.invalid(key(super::Plasticity::key_of(&e)), e.to_string()));
+                }
             }
         }
         for (name, joint) in &self.joints {
@@ -583,6 +604,7 @@ impl Scene {
         for name in self.materials.keys() {
             self.surface(mesh, name, format!("materials.{name}"))?;
         }
+        self.check_strength_with_depth(mesh)?;
         if let Some(body) = mesh.bodies.iter().find(|b| !self.materials.contains_key(&b.name)) {
             return Err(self.invalid(
                 "materials",
@@ -675,6 +697,44 @@ impl Scene {
                 }
                 Load::Motion(l) => {
                     on_edges(self.curve(mesh, &l.on, &key)?, &key)?;
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+impl Scene {
+    /// A strength that grows with depth must stay >= 0 over its body:
+    /// `c_u(z)` at the body's highest node (the strength is linear in z,
+    /// so the highest or lowest node is where it is least).
+    fn check_strength_with_depth(&self, mesh: &Mesh) -> Result<(), SceneError> {
+        for (b, body) in mesh.bodies.iter().enumerate() {
+            let Some(p) = self.materials.get(&body.name).and_then(|m| m.plasticity) else {
+                continue;
+            };
+            let zs = mesh
+                .cells
+                .iter()
+                .filter(|c| c.body == b)
+                .flat_map(|c| c.nodes.iter().map(|&k| mesh.nodes[k][1]));
+            let (lo, hi) = zs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), z| {
+                (a.min(z), b.max(z))
+            });
+            for z in [lo, hi].into_iter().filter(|z| z.is_finite()) {
+                if let Err(e) = p.at(z).validate() {
+                    return Err(self.invalid(
+                        format!(
+                            "materials.{}.plasticity.{}",
+                            body.name,
+                            super::Plasticity::key_of(&e)
+                        ),
+                        format!(
+                            "at z = {} in '{}': {e} (c_u(z) = c_u + gradient (z_ref - z))",
+                            Short(z),
+                            body.name
+                        ),
+                    ));
                 }
             }
         }

@@ -1,6 +1,7 @@
 //! Loads of a scene, as the user writes them (see `docs/scene-format.md`);
 //! [`crate::loads`] turns them into nodal forces per harmonic.
 
+use super::Fix;
 use serde::de::{self, MapAccess, Visitor};
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use std::fmt;
@@ -146,8 +147,9 @@ pub struct ResultantLoad {
 
 /// A face moved as a rigid body (prescribed displacements): every node of
 /// the curve gets `displacement + rotation x (x - (0, 0, z_c))`, `z_c` the
-/// face's mean z or `at_z`. The face is held in every component; its
-/// reaction is the load it takes. Harmonics 0 and 1 only.
+/// face's mean z or `at_z`. The face is held in the components `hold`
+/// (every one by default), free in the others; its reaction is the load it
+/// takes. Harmonics 0 and 1 only.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MotionLoad {
     /// Physical curve.
@@ -158,6 +160,10 @@ pub struct MotionLoad {
     pub rotation: [f64; 3],
     /// z of the centre of rotation on the axis; `None`: the face's mean z.
     pub at_z: Option<f64>,
+    /// The components (r, z, theta) the face is held in, in every harmonic:
+    /// the motion must not move it in the others, where other loads may
+    /// act on it (e.g. a head twisted with its axial force given).
+    pub hold: Fix,
 }
 
 /// A ring line load at a physical point (force per unit circumferential
@@ -322,6 +328,8 @@ struct LoadSpec {
         deserialize_with = "rotation_list"
     )]
     rotation: Option<[f64; 3]>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    hold: Option<Fix>,
 }
 
 /// A list of exactly `N` numbers, its length said in words otherwise.
@@ -369,6 +377,7 @@ impl LoadSpec {
             ("f_theta", self.f_theta.is_some()),
             ("displacement", self.displacement.is_some()),
             ("rotation", self.rotation.is_some()),
+            ("hold", self.hold.is_some()),
         ]
         .into_iter()
         .filter(|(_, p)| *p)
@@ -388,7 +397,7 @@ impl TryFrom<LoadSpec> for Load {
             LoadType::Resultant => ("resultant", &["force", "at_z", "torque", "moment"]),
             LoadType::Ring => ("ring", &["harmonic", "family", "f_r", "f_z", "f_theta"]),
             LoadType::Point => ("point", &["force"]),
-            LoadType::Motion => ("motion", &["displacement", "rotation", "at_z"]),
+            LoadType::Motion => ("motion", &["displacement", "rotation", "at_z", "hold"]),
         };
         if let Some(key) = s.present().into_iter().find(|k| !allowed.contains(k)) {
             return Err(format!(
@@ -440,6 +449,7 @@ impl TryFrom<LoadSpec> for Load {
                 displacement: s.displacement.unwrap_or_default(),
                 rotation: s.rotation.unwrap_or_default(),
                 at_z: s.at_z,
+                hold: s.hold.unwrap_or(Fix::ALL),
             }),
         })
     }
@@ -489,6 +499,7 @@ impl From<Load> for LoadSpec {
                 displacement: Some(l.displacement),
                 rotation: Some(l.rotation),
                 at_z: l.at_z,
+                hold: (l.hold != Fix::ALL).then_some(l.hold),
                 ..LoadSpec::default()
             },
         }

@@ -43,8 +43,8 @@ pub use joint::{
 };
 pub use load::{Family, Linear, Load, MotionLoad, PointLoad, ResultantLoad, RingLoad, TractionLoad};
 pub use settings::{
-    Adapt, Cut, Fix, InitialStress, Loading, Material, MeshSource, Outputs, Sections, SolverMethod,
-    SolverSettings, StageOutputs, Support, Units, VtuSections,
+    Adapt, Cut, Fix, InitialStress, Loading, Material, MeshSource, Outputs, Plasticity, Sections,
+    SolverMethod, SolverSettings, StageOutputs, Support, Units, VtuSections,
 };
 pub use stage::{stage_label, Cyclic, Leg, Stage, MAX_STAGES};
 
@@ -295,10 +295,20 @@ impl Scene {
         self.materials.values().any(|m| m.initial_stress.is_some())
     }
 
-    /// Whether a joint can open or slip (its law is not `linear`): the run
-    /// then iterates.
+    /// Whether a joint can open or slip (its law is not `linear`).
     pub fn has_nonlinear_joints(&self) -> bool {
         self.joints.values().any(|j| j.law != JointLaw::Linear)
+    }
+
+    /// Whether a material yields (it has a `plasticity`).
+    pub fn has_plastic_bodies(&self) -> bool {
+        self.materials.values().any(|m| m.plasticity.is_some())
+    }
+
+    /// Whether the run iterates: a joint can open or slip, or a material
+    /// yields.
+    pub fn is_nonlinear(&self) -> bool {
+        self.has_nonlinear_joints() || self.has_plastic_bodies()
     }
 
     /// The joints as the mesh crate inserts them.

@@ -125,6 +125,110 @@ pub struct Material {
     /// scene an initial phase (docs/loading.md).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub initial_stress: Option<InitialStress>,
+    /// The yield criterion of a perfectly plastic material; none: elastic.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub plasticity: Option<Plasticity>,
+}
+
+/// The yield criterion of a perfectly plastic material
+/// ([`crate::plasticity`]), the undrained strength varying with depth:
+/// `c_u(z) = c_u + gradient (z_ref - z)`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum Plasticity {
+    /// Tresca, `(s1 - s3) / 2 <= c_u(z)` (undrained, total stress).
+    Tresca {
+        /// Undrained strength at `z_ref` (stress).
+        c_u: f64,
+        /// Its growth with depth below `z_ref` (stress / length).
+        #[serde(default, skip_serializing_if = "is_zero")]
+        gradient: f64,
+        /// The reference level (length).
+        #[serde(default, skip_serializing_if = "is_zero")]
+        z_ref: f64,
+    },
+    /// von Mises, `sqrt(J2) <= c_u(z)` (Tresca's c_u in pure shear).
+    VonMises {
+        /// Undrained strength at `z_ref` (stress).
+        c_u: f64,
+        /// Its growth with depth below `z_ref` (stress / length).
+        #[serde(default, skip_serializing_if = "is_zero")]
+        gradient: f64,
+        /// The reference level (length).
+        #[serde(default, skip_serializing_if = "is_zero")]
+        z_ref: f64,
+    },
+    /// Mohr-Coulomb with a dilation angle and a tension cut-off.
+    MohrCoulomb {
+        /// Cohesion c (stress).
+        cohesion: f64,
+        /// Friction angle (degrees).
+        friction_deg: f64,
+        /// Dilation angle psi (degrees, 0 <= psi <= phi; default 0).
+        #[serde(default, skip_serializing_if = "is_zero")]
+        dilation_deg: f64,
+        /// Largest principal stress allowed (stress, >= 0); none: the apex.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        tension_cutoff: Option<f64>,
+    },
+}
+
+impl Plasticity {
+    /// The criterion at height `z`.
+    pub fn at(&self, z: f64) -> crate::plasticity::YieldCriterion {
+        use crate::plasticity::YieldCriterion as Y;
+        match *self {
+            Plasticity::Tresca { c_u, gradient, z_ref } => Y::Tresca {
+                c_u: c_u + gradient * (z_ref - z),
+            },
+            Plasticity::VonMises { c_u, gradient, z_ref } => Y::VonMises {
+                c_u: c_u + gradient * (z_ref - z),
+            },
+            Plasticity::MohrCoulomb {
+                cohesion,
+                friction_deg,
+                dilation_deg,
+                tension_cutoff,
+            } => Y::MohrCoulomb {
+                cohesion,
+                friction_deg,
+                dilation_deg,
+                tension_cutoff: tension_cutoff.unwrap_or(f64::INFINITY),
+            },
+        }
+    }
+
+    /// The key of the parameter a criterion error is about.
+    pub fn key_of(e: &crate::plasticity::PlasticityError) -> &'static str {
+        use crate::plasticity::PlasticityError as E;
+        match e {
+            E::UndrainedStrength { .. } => "c_u",
+            E::Cohesion { .. } | E::NoStrength => "cohesion",
+            E::Friction { .. } => "friction_deg",
+            E::Dilation { .. } => "dilation_deg",
+            E::TensionCutoff { .. } => "tension_cutoff",
+        }
+    }
+
+    /// The strength parameters that must be finite, with their keys.
+    pub fn numbers(&self) -> Vec<(&'static str, f64)> {
+        match *self {
+            Plasticity::Tresca { c_u, gradient, z_ref } | Plasticity::VonMises { c_u, gradient, z_ref } => {
+                vec![("c_u", c_u), ("gradient", gradient), ("z_ref", z_ref)]
+            }
+            Plasticity::MohrCoulomb {
+                cohesion,
+                friction_deg,
+                dilation_deg,
+                tension_cutoff,
+            } => vec![
+                ("cohesion", cohesion),
+                ("friction_deg", friction_deg),
+                ("dilation_deg", dilation_deg),
+                ("tension_cutoff", tension_cutoff.unwrap_or(0.0)),
+            ],
+        }
+    }
 }
 
 /// The stress a material starts from, axisymmetric (harmonic 0), tension
@@ -234,6 +338,15 @@ impl Fix {
         [self.r, self.z, self.theta]
     }
 
+    /// The names of the fixed components, in the order r, z, theta.
+    pub fn names(&self) -> Vec<&'static str> {
+        [(self.r, "r"), (self.z, "z"), (self.theta, "theta")]
+            .iter()
+            .filter(|(on, _)| *on)
+            .map(|&(_, n)| n)
+            .collect()
+    }
+
     /// True if nothing is fixed.
     pub fn is_empty(&self) -> bool {
         !(self.r || self.z || self.theta)
@@ -282,12 +395,7 @@ impl<'de> Deserialize<'de> for Fix {
 
 impl Serialize for Fix {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        let names: Vec<&str> = [(self.r, "r"), (self.z, "z"), (self.theta, "theta")]
-            .iter()
-            .filter(|(on, _)| *on)
-            .map(|&(_, n)| n)
-            .collect();
-        names.serialize(s)
+        self.names().serialize(s)
     }
 }
 
