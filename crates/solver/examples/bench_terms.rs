@@ -104,7 +104,7 @@ fn main() {
         let (w, c, t) = timed(|| {
             StiffnessTerms::assemble(
                 &model.mesh,
-                &model.materials,
+                (&model.materials, &model.mixed()),
                 &model.joints,
                 &model.dofs,
                 model.pattern(),

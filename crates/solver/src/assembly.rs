@@ -8,8 +8,8 @@
 
 use crate::dofs::DofMap;
 use crate::elements::{
-    c_m, joint_stiffness, joint_stiffness_scaled, solid_stiffness, solid_stiffness_terms, JointRule,
-    JointSprings, SolidScratch,
+    c_m, joint_stiffness, joint_stiffness_scaled, solid_stiffness, solid_stiffness_bbar,
+    solid_stiffness_terms, solid_stiffness_terms_bbar, JointRule, JointSprings, SolidScratch,
 };
 use crate::material::Elastic;
 use axijoint_mesh::{CellKind, Mesh};
@@ -186,20 +186,20 @@ impl ElementScratch {
 /// its stiffness of harmonic `m`; joint element nodes are bottom then top.
 pub(crate) fn for_each_element(
     mesh: &Mesh,
-    materials: &[Elastic],
+    (materials, mixed): (&[Elastic], &[bool]),
     joints: &[JointModel],
     m: u32,
     s: &mut ElementScratch,
     f: impl FnMut(&[usize], &DMatrix<f64>),
 ) {
-    for_each_element_where(mesh, materials, joints, m, s, |_| true, f);
+    for_each_element_where(mesh, (materials, mixed), joints, m, s, |_| true, f);
 }
 
 /// [`for_each_element`] over the elements whose node list passes `keep`
 /// (the others' matrices are not computed).
 pub(crate) fn for_each_element_where(
     mesh: &Mesh,
-    materials: &[Elastic],
+    (materials, mixed): (&[Elastic], &[bool]),
     joints: &[JointModel],
     m: u32,
     s: &mut ElementScratch,
@@ -212,7 +212,12 @@ pub(crate) fn for_each_element_where(
         }
         s.coords.clear();
         s.coords.extend(cell.nodes.iter().map(|&n| mesh.nodes[n]));
-        solid_stiffness(
+        let stiffness = if mixed.get(cell.body).copied().unwrap_or(false) {
+            solid_stiffness_bbar
+        } else {
+            solid_stiffness
+        };
+        stiffness(
             cell.kind,
             &s.coords,
             &materials[cell.body],
@@ -280,8 +285,9 @@ pub fn scatter(
 pub struct StiffnessTerms {
     /// `[A, B, C]` of each pattern entry (upper triangle, pattern order).
     values: Vec<[f64; 3]>,
-    /// The materials and joints they were assembled with.
+    /// The materials, B-bar bodies and joints they were assembled with.
     materials: Vec<Elastic>,
+    mixed: Vec<bool>,
     joints: Vec<JointModel>,
 }
 
@@ -289,7 +295,7 @@ impl StiffnessTerms {
     /// Assembles `A`, `B` and `C` (no equation pinned) in one element loop.
     pub fn assemble(
         mesh: &Mesh,
-        materials: &[Elastic],
+        (materials, mixed): (&[Elastic], &[bool]),
         joints: &[JointModel],
         dofs: &DofMap,
         pattern: &Pattern,
@@ -301,7 +307,12 @@ impl StiffnessTerms {
         for cell in &mesh.cells {
             coords.clear();
             coords.extend(cell.nodes.iter().map(|&n| mesh.nodes[n]));
-            solid_stiffness_terms(cell.kind, &coords, &materials[cell.body], &mut solid, &mut ke);
+            let terms = if mixed.get(cell.body).copied().unwrap_or(false) {
+                solid_stiffness_terms_bbar
+            } else {
+                solid_stiffness_terms
+            };
+            terms(cell.kind, &coords, &materials[cell.body], &mut solid, &mut ke);
             scatter_terms(pattern, dofs, &cell.nodes, &ke, 3, &mut values);
         }
         let mut nodes = Vec::with_capacity(6);
@@ -319,13 +330,15 @@ impl StiffnessTerms {
         StiffnessTerms {
             values,
             materials: materials.to_vec(),
+            mixed: mixed.to_vec(),
             joints: joints.to_vec(),
         }
     }
 
-    /// Whether these terms were assembled with `materials` and `joints`.
-    pub fn matches(&self, materials: &[Elastic], joints: &[JointModel]) -> bool {
-        self.materials == materials && self.joints == joints
+    /// Whether these terms were assembled with `materials` (B-bar cells in
+    /// the bodies `mixed`) and `joints`.
+    pub fn matches(&self, (materials, mixed): (&[Elastic], &[bool]), joints: &[JointModel]) -> bool {
+        self.materials == materials && self.mixed == mixed && self.joints == joints
     }
 
     /// The values of `K_m` on `pattern` with the rows and columns of the

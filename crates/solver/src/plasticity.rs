@@ -249,6 +249,9 @@ const COINCIDENT: f64 = 1e-8;
 /// ```
 pub fn return_map(elastic: &Elastic, criterion: &YieldCriterion, trial: [f64; 6]) -> Returned {
     let d = elastic.d_matrix();
+    if surely_elastic(criterion, &trial) {
+        return elastic_result(&d, trial);
+    }
     match Planes::new(criterion) {
         None => {
             let YieldCriterion::VonMises { c_u } = *criterion else {
@@ -333,6 +336,35 @@ fn compliance(elastic: &Elastic, s: &[f64; 6]) -> [f64; 6] {
 
 fn to_array(m: &SMatrix<f64, 6, 6>) -> [[f64; 6]; 6] {
     std::array::from_fn(|i| std::array::from_fn(|j| m[(i, j)]))
+}
+
+/// Whether `trial` lies inside the surface by a margin, from its
+/// invariants alone (no principal stresses: most points of a body are
+/// elastic): with `p` the mean stress and `q = sqrt(J2)`, `(s1 - s3) / 2 <=
+/// q`, `(s1 + s3) / 2 <= p + q / sqrt(3)` and `s1 <= p + 2 q / sqrt(3)`.
+fn surely_elastic(criterion: &YieldCriterion, trial: &[f64; 6]) -> bool {
+    const MARGIN: f64 = 1e-6;
+    let p = (trial[0] + trial[1] + trial[2]) / 3.0;
+    let dev = [trial[0] - p, trial[1] - p, trial[2] - p];
+    let j2 = 0.5 * dev.iter().map(|v| v * v).sum::<f64>() + trial[3..].iter().map(|v| v * v).sum::<f64>();
+    let q = j2.sqrt();
+    let r3 = 3f64.sqrt();
+    match *criterion {
+        YieldCriterion::Tresca { c_u } => q < c_u * (1.0 - MARGIN),
+        YieldCriterion::VonMises { .. } => false,
+        YieldCriterion::MohrCoulomb {
+            cohesion,
+            friction_deg,
+            tension_cutoff,
+            ..
+        } => {
+            let (sin, cos) = friction_deg.to_radians().sin_cos();
+            let scale = cohesion.max(q).max(p.abs());
+            let face = q + (p + q / r3) * sin - cohesion * cos < -MARGIN * scale;
+            let cutoff = tension_cutoff.is_infinite() || p + 2.0 * q / r3 < tension_cutoff - MARGIN * scale;
+            face && cutoff
+        }
+    }
 }
 
 fn elastic_result(d: &SMatrix<f64, 6, 6>, trial: [f64; 6]) -> Returned {

@@ -33,7 +33,8 @@ pub use joint::{
 };
 pub use solid::{
     b_matrix, b_matrix_on_axis, body_force_load, point_strain, point_stress, solid_stiffness,
-    solid_stiffness_terms, strain_at, stress_at, stress_forces, SolidScratch, StrainPoint, STRESS_NAMES,
+    solid_stiffness_bbar, solid_stiffness_terms, solid_stiffness_terms_bbar, strain_at, stress_at,
+    stress_forces, SolidScratch, StrainPoint, STRESS_NAMES,
 };
 pub use traction::edge_load;
 

@@ -119,6 +119,30 @@ mod tests {
     /// (the sections resolve 2 m).
     #[test]
     fn the_section_quadrature_of_the_virtual_work_is_the_stiffness() {
+        quadrature_is_the_stiffness(false);
+    }
+
+    /// The same with the volumetric strain and the mean stress projected
+    /// at each section (B-bar): `K-bar_m u_m`.
+    #[test]
+    fn the_projected_section_quadrature_is_the_b_bar_stiffness() {
+        quadrature_is_the_stiffness(true);
+    }
+
+    /// Replaces `v[q][0..3]` by their projection `P` of the mean (`mean`:
+    /// the mean stress, else the volumetric strain).
+    fn project(p: &DMatrix<f64>, v: &mut [[f64; 6]], mean: bool) {
+        let scale = if mean { 1.0 / 3.0 } else { 1.0 };
+        let tr: Vec<f64> = v.iter().map(|e| scale * (e[0] + e[1] + e[2])).collect();
+        for (q, e) in v.iter_mut().enumerate() {
+            let bar: f64 = (0..tr.len()).map(|k| p[(q, k)] * tr[k]).sum::<f64>() - tr[q];
+            for c in e.iter_mut().take(3) {
+                *c += if mean { bar } else { bar / 3.0 };
+            }
+        }
+    }
+
+    fn quadrature_is_the_stiffness(bbar: bool) {
         let mat = Elastic::new(210.0, 0.3).unwrap();
         let d = mat.d_matrix();
         let sections = Sections::full_equispaced(9);
@@ -136,9 +160,21 @@ mod tests {
             let amp: Vec<f64> = (0..3 * nn)
                 .map(|k| ((k * 7 + 3) % 11) as f64 / 11.0 - 0.4)
                 .collect();
+            let projection = crate::elements::solid::volumetric_projection(&values);
             for m in 0..=3u32 {
                 let mut k = DMatrix::zeros(0, 0);
-                solid_stiffness(kind, &coords, &mat, m, &mut SolidScratch::new(kind), &mut k);
+                if bbar {
+                    crate::elements::solid::solid_stiffness_bbar(
+                        kind,
+                        &coords,
+                        &mat,
+                        m,
+                        &mut SolidScratch::new(kind),
+                        &mut k,
+                    );
+                } else {
+                    solid_stiffness(kind, &coords, &mat, m, &mut SolidScratch::new(kind), &mut k);
+                }
                 let ku = &k * nalgebra::DVector::from_column_slice(&amp);
                 for family in [Family::Symmetric, Family::Antisymmetric] {
                     if m == 0 && family == Family::Antisymmetric {
@@ -154,14 +190,24 @@ mod tests {
                         };
                         let (u, du) = (phys(a, b), phys(da, db));
                         let (mut fu, mut fd) = (vec![0.0; 3 * nn], vec![0.0; 3 * nn]);
-                        for q in 0..values.n_points() {
-                            let eps = section_strain(&values, q, &u, &du);
-                            let sigma = d * nalgebra::Vector6::from_column_slice(&eps);
-                            let sigma: [f64; 6] = sigma.into();
+                        let nq = values.n_points();
+                        let mut eps: Vec<[f64; 6]> =
+                            (0..nq).map(|q| section_strain(&values, q, &u, &du)).collect();
+                        if bbar {
+                            project(&projection, &mut eps, false);
+                        }
+                        let mut sigma: Vec<[f64; 6]> = eps
+                            .iter()
+                            .map(|e| (d * nalgebra::Vector6::from_column_slice(e)).into())
+                            .collect();
+                        if bbar {
+                            project(&projection, &mut sigma, true);
+                        }
+                        for (q, s) in sigma.iter().enumerate() {
                             add_section_forces(
                                 &values,
                                 q,
-                                &sigma,
+                                s,
                                 values.r(q) * values.weight(q),
                                 &mut fu,
                                 &mut fd,

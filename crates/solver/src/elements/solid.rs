@@ -287,6 +287,131 @@ pub fn solid_stiffness_terms(
     }
 }
 
+/// The volumetric projection of a cell's Gauss points (the B-bar method,
+/// Hughes 1980): `P = Phi (Phi^T W Phi)^-1 Phi^T W`, `Phi` the pressure
+/// basis at the points (1, and r and z for cells of 6 nodes or more) and
+/// `W` their weights `r |det J| w_q`. It is self-adjoint in the weighted
+/// product, so the strain it projects and the mean stress it projects are
+/// each other's transposes.
+pub fn volumetric_projection(values: &CellValues) -> DMatrix<f64> {
+    let nq = values.n_points();
+    let np = if values.n(0).len() >= 6 { 3 } else { 1 };
+    let w: Vec<f64> = (0..nq).map(|q| values.r(q) * values.weight(q)).collect();
+    let total: f64 = w.iter().sum();
+    let centre = (0..nq).fold([0.0; 2], |c, q| {
+        let x = values.position(q);
+        [c[0] + w[q] * x[0] / total, c[1] + w[q] * x[1] / total]
+    });
+    let size = values.size().max(f64::MIN_POSITIVE);
+    let phi = DMatrix::from_fn(nq, np, |q, k| match k {
+        0 => 1.0,
+        1 => (values.position(q)[0] - centre[0]) / size,
+        _ => (values.position(q)[1] - centre[1]) / size,
+    });
+    let mut phi_w = phi.transpose();
+    for (q, wq) in w.iter().enumerate() {
+        phi_w.column_mut(q).scale_mut(*wq);
+    }
+    let gram = &phi_w * &phi;
+    let inverse = gram.try_inverse().unwrap_or_else(|| DMatrix::zeros(np, np));
+    &phi * inverse * phi_w
+}
+
+/// The two parts of the strain operator at point `q`, `B = B0 + m B1`
+/// (module doc), `6 x 3n` each.
+fn strain_parts(values: &CellValues, q: usize) -> [DMatrix<f64>; 2] {
+    let (n, dn, r) = (values.n(q), values.dn(q), values.r(q));
+    let nd = DOF_PER_NODE * n.len();
+    let mut b0 = DMatrix::zeros(6, nd);
+    let mut b1 = DMatrix::zeros(6, nd);
+    for (i, (ni, di)) in n.iter().zip(dn).enumerate() {
+        let (nr, nz, h) = (di[0], di[1], ni / r);
+        let (u, v, w) = (3 * i, 3 * i + 1, 3 * i + 2);
+        b0[(0, u)] = nr;
+        b0[(1, v)] = nz;
+        b0[(2, u)] = h;
+        b0[(3, u)] = nz;
+        b0[(3, v)] = nr;
+        b0[(4, w)] = nr - h;
+        b0[(5, w)] = nz;
+        b1[(2, w)] = h;
+        b1[(4, u)] = -h;
+        b1[(5, v)] = -h;
+    }
+    [b0, b1]
+}
+
+/// Replaces the volumetric part of the strain operators `ops[q]` (6 rows
+/// each, one per point) by its projection `P` ([`volumetric_projection`]).
+pub fn project_volumetric(p: &DMatrix<f64>, ops: &mut [DMatrix<f64>]) {
+    let vol: Vec<nalgebra::RowDVector<f64>> = ops.iter().map(|b| b.row(0) + b.row(1) + b.row(2)).collect();
+    for (q, b) in ops.iter_mut().enumerate() {
+        let mut bar = -vol[q].clone();
+        for (k, v) in vol.iter().enumerate() {
+            bar += p[(q, k)] * v;
+        }
+        for row in 0..3 {
+            let mut r = b.row_mut(row);
+            r += &bar / 3.0;
+        }
+    }
+}
+
+/// [`solid_stiffness_terms`] of the B-bar cell: the volumetric strain
+/// projected onto the pressure basis of [`volumetric_projection`] (no
+/// locking where the plastic flow keeps the volume), `K(m) = c_m (out[0] +
+/// m out[1] + m^2 out[2])`.
+pub fn solid_stiffness_terms_bbar(
+    kind: CellKind,
+    coords: &[[f64; 2]],
+    mat: &Elastic,
+    scratch: &mut SolidScratch,
+    out: &mut [DMatrix<f64>; 3],
+) {
+    let values = reinit(&mut scratch.values, kind, coords);
+    let nd = DOF_PER_NODE * kind.n_nodes();
+    for o in out.iter_mut() {
+        zero_matrix(o, nd, nd);
+    }
+    let p = volumetric_projection(values);
+    let nq = values.n_points();
+    let (mut b0, mut b1): (Vec<_>, Vec<_>) = (0..nq)
+        .map(|q| {
+            let [a, b] = strain_parts(values, q);
+            (a, b)
+        })
+        .unzip();
+    project_volumetric(&p, &mut b0);
+    project_volumetric(&p, &mut b1);
+    let d = DMatrix::from_column_slice(6, 6, mat.d_matrix().as_slice());
+    for q in 0..nq {
+        let f = values.r(q) * values.weight(q);
+        let (db0, db1) = (&d * &b0[q], &d * &b1[q]);
+        out[0] += f * b0[q].transpose() * &db0;
+        out[1] += f * (b0[q].transpose() * &db1 + b1[q].transpose() * &db0);
+        out[2] += f * b1[q].transpose() * &db1;
+    }
+    for o in out.iter_mut() {
+        symmetrize(o);
+    }
+}
+
+/// [`solid_stiffness`] of the B-bar cell of [`solid_stiffness_terms_bbar`].
+pub fn solid_stiffness_bbar(
+    kind: CellKind,
+    coords: &[[f64; 2]],
+    mat: &Elastic,
+    m: u32,
+    scratch: &mut SolidScratch,
+    out: &mut DMatrix<f64>,
+) {
+    let mut terms = [DMatrix::zeros(0, 0), DMatrix::zeros(0, 0), DMatrix::zeros(0, 0)];
+    solid_stiffness_terms_bbar(kind, coords, mat, scratch, &mut terms);
+    let (mf, c) = (f64::from(m), c_m(m));
+    let [a, b, cc] = terms;
+    *out = c * (a + mf * b + mf * mf * cc);
+}
+
 /// Consistent nodal forces of a body force of harmonic `m` with amplitudes
 /// `b = (b_r, b_z, b_theta)` (force / length^3, the families' cos / sin
 /// factors as for tractions) on one cell, added to `out` (node-major, `3 n`):

@@ -7,6 +7,7 @@
 
 use super::types::IterationError;
 use crate::elements::section::{add_section_forces, section_strain};
+use crate::elements::solid::volumetric_projection;
 use crate::elements::CellValues;
 use crate::linear::Model;
 use crate::material::Elastic;
@@ -28,6 +29,9 @@ pub(super) struct PlasticCell {
     pub(super) first: usize,
     /// Its material.
     pub(super) elastic: Elastic,
+    /// The volumetric projection of its Gauss points (B-bar:
+    /// [`crate::elements::solid::volumetric_projection`]).
+    projection: nalgebra::DMatrix<f64>,
 }
 
 /// The plastic bodies of a model: every cell of a body with a yield
@@ -80,6 +84,7 @@ impl Bodies {
                 criteria.push(plasticity.at(values.position(q)[1]));
             }
             cells.push(PlasticCell {
+                projection: volumetric_projection(&values),
                 cell: index,
                 local: cell.nodes.iter().map(|&k| where_[k]).collect(),
                 values,
@@ -111,6 +116,39 @@ impl Bodies {
         }
         let n = 3 * cell.local.len();
         section_strain(&cell.values, q, &u[..n], &du[..n])
+    }
+
+    /// The strains of every point of `cell` from a section's body values
+    /// `body`, their volumetric part projected (B-bar, as the cell's
+    /// stiffness).
+    pub(super) fn strains(&self, cell: &PlasticCell, body: &[f64]) -> Vec<[f64; 6]> {
+        let nq = cell.values.n_points();
+        let mut eps: Vec<[f64; 6]> = (0..nq).map(|q| self.strain(cell, q, body)).collect();
+        let vol: Vec<f64> = eps.iter().map(|e| e[0] + e[1] + e[2]).collect();
+        for (q, e) in eps.iter_mut().enumerate() {
+            let bar: f64 = (0..nq).map(|k| cell.projection[(q, k)] * vol[k]).sum::<f64>() - vol[q];
+            for c in e.iter_mut().take(3) {
+                *c += bar / 3.0;
+            }
+        }
+        eps
+    }
+
+    /// Adds the nodal forces (per radian) of the stresses `sigma` of every
+    /// point of `cell` to a section's body values `out`: their mean stress
+    /// projected (the transpose of [`Bodies::strains`]).
+    pub(super) fn scatter_all(&self, cell: &PlasticCell, sigma: &mut [[f64; 6]], out: &mut [f64]) {
+        let nq = sigma.len();
+        let p: Vec<f64> = sigma.iter().map(|s| (s[0] + s[1] + s[2]) / 3.0).collect();
+        for (q, s) in sigma.iter_mut().enumerate() {
+            let bar: f64 = (0..nq).map(|k| cell.projection[(q, k)] * p[k]).sum::<f64>() - p[q];
+            for c in s.iter_mut().take(3) {
+                *c += bar;
+            }
+        }
+        for (q, s) in sigma.iter().enumerate() {
+            self.scatter(cell, q, s, out);
+        }
     }
 
     /// Adds the nodal forces (per radian) of stress `sigma` at point `q` of
@@ -167,8 +205,18 @@ impl Bodies {
             let nd = 3 * cell.local.len();
             ke.resize_mut(nd, nd, 0.0);
             ke.fill(0.0);
+            let nq = cell.values.n_points();
+            let sections = weights.len();
+            if (0..sections).all(|s| {
+                tangents[s * n_b + cell.first..s * n_b + cell.first + nq]
+                    .iter()
+                    .all(Option::is_none)
+            }) {
+                continue;
+            }
             let mut any = false;
-            for q in 0..cell.values.n_points() {
+            let ops_all = projected_operators(cell);
+            for (q, ops) in ops_all.iter().enumerate() {
                 let k = cell.first + q;
                 // T_kl over the sections.
                 let mut tk = [[[[0.0; 6]; 6]; KINDS]; KINDS];
@@ -195,7 +243,6 @@ impl Bodies {
                     continue;
                 }
                 any = true;
-                let ops = strain_operators(&cell.values, q);
                 let wq = cell.values.r(q) * cell.values.weight(q);
                 // ke += wq sum_k C_k^T (sum_l T_kl C_l)
                 for (kk, row) in tk.iter().enumerate() {
@@ -247,6 +294,29 @@ fn strain_operators(values: &CellValues, q: usize) -> [Vec<[f64; 6]>; KINDS] {
         ops[2][3 * i] = [0.0, 0.0, 0.0, 0.0, h, 0.0];
         ops[2][3 * i + 1] = [0.0, 0.0, 0.0, 0.0, 0.0, h];
         ops[3][3 * i + 2] = [0.0, 0.0, h, 0.0, 0.0, 0.0];
+    }
+    ops
+}
+
+/// [`strain_operators`] of every point of `cell`, their volumetric part
+/// projected (B-bar, as [`Bodies::strains`]).
+fn projected_operators(cell: &PlasticCell) -> Vec<[Vec<[f64; 6]>; KINDS]> {
+    let nq = cell.values.n_points();
+    let mut ops: Vec<_> = (0..nq).map(|q| strain_operators(&cell.values, q)).collect();
+    let nd = 3 * cell.local.len();
+    for k in 0..KINDS {
+        for col in 0..nd {
+            let vol: Vec<f64> = ops
+                .iter()
+                .map(|o| o[k][col][0] + o[k][col][1] + o[k][col][2])
+                .collect();
+            for q in 0..nq {
+                let bar: f64 = (0..nq).map(|j| cell.projection[(q, j)] * vol[j]).sum::<f64>() - vol[q];
+                for v in ops[q][k][col].iter_mut().take(3) {
+                    *v += bar / 3.0;
+                }
+            }
+        }
     }
     ops
 }

@@ -102,7 +102,7 @@ impl<'s, 'a> Nodal<'s, 'a> {
                     &pinned,
                     &mut values,
                 );
-                model.factorize_values(m, &values, pinned).ok()
+                model.factorize_preconditioner(m, &values, pinned)
             })
             .collect();
         self.tangent_factors = (0..setup.loads.len()).map(|_| [None, None]).collect();

@@ -265,25 +265,30 @@ impl Sweep<'_, '_> {
         let n_b = bodies.n_points();
         for cell in &bodies.cells {
             let d = cell.elastic.d_matrix();
-            for q in 0..cell.values.n_points() {
+            let eps = bodies.strains(cell, u_b);
+            let mut released = vec![[0.0; 6]; eps.len()];
+            let mut any = false;
+            for (q, eps) in eps.iter().enumerate() {
                 let k = cell.first + q;
-                let eps = bodies.strain(cell, q, u_b);
                 let committed = self.state.plastic_of(s * n_b + k);
                 let elastic: [f64; 6] = std::array::from_fn(|c| eps[c] - committed[c]);
                 let trial: [f64; 6] = (d * nalgebra::Vector6::from(elastic)).into();
                 let r = return_map(&cell.elastic, &bodies.criteria[k], trial);
                 if r.region != Region::Elastic {
                     // D eps - sigma = D eps_p (committed and of the step).
-                    let carried: [f64; 6] = (d * nalgebra::Vector6::from(eps)).into();
-                    let released: [f64; 6] = std::array::from_fn(|c| carried[c] - r.stress[c]);
-                    bodies.scatter(cell, q, &released, g);
+                    let carried: [f64; 6] = (d * nalgebra::Vector6::from(*eps)).into();
+                    released[q] = std::array::from_fn(|c| carried[c] - r.stress[c]);
+                    any = true;
                 } else if committed != [0.0; 6] {
-                    let released: [f64; 6] = (d * nalgebra::Vector6::from(committed)).into();
-                    bodies.scatter(cell, q, &released, g);
+                    released[q] = (d * nalgebra::Vector6::from(committed)).into();
+                    any = true;
                 }
                 out.sigma[k] = r.stress;
                 out.plastic[k] = std::array::from_fn(|c| committed[c] + r.plastic_strain[c]);
                 out.yielding[k] = r.region != Region::Elastic;
+            }
+            if any {
+                bodies.scatter_all(cell, &mut released, g);
             }
         }
     }
@@ -306,13 +311,13 @@ impl Sweep<'_, '_> {
                 let u_b = &ev.u_s[s * m + start..(s + 1) * m];
                 for cell in &bodies.cells {
                     let d = cell.elastic.d_matrix();
-                    for q in 0..cell.values.n_points() {
+                    let strains = bodies.strains(cell, u_b);
+                    for (q, eps) in strains.iter().enumerate() {
                         let k = cell.first + q;
                         if !ev.yielding[s * n_b + k] {
                             ts[k] = None;
                             continue;
                         }
-                        let eps = bodies.strain(cell, q, u_b);
                         let committed = self.state.plastic_of(s * n_b + k);
                         let elastic: [f64; 6] = std::array::from_fn(|c| eps[c] - committed[c]);
                         let trial: [f64; 6] = (d * nalgebra::Vector6::from(elastic)).into();
@@ -372,12 +377,20 @@ impl Sweep<'_, '_> {
                 g.fill(0.0);
                 let du = &du_s[s * m + start..(s + 1) * m];
                 for cell in &bodies.cells {
-                    for q in 0..cell.values.n_points() {
-                        let Some(t) = &ts[cell.first + q] else { continue };
-                        let de = bodies.strain(cell, q, du);
-                        let ds: [f64; 6] = std::array::from_fn(|i| (0..6).map(|j| t[i][j] * de[j]).sum());
-                        bodies.scatter(cell, q, &ds, g);
+                    let nq = cell.values.n_points();
+                    if ts[cell.first..cell.first + nq].iter().all(Option::is_none) {
+                        continue;
                     }
+                    let de = bodies.strains(cell, du);
+                    let mut ds: Vec<[f64; 6]> = de
+                        .iter()
+                        .enumerate()
+                        .map(|(q, de)| match &ts[cell.first + q] {
+                            Some(t) => std::array::from_fn(|i| (0..6).map(|j| t[i][j] * de[j]).sum()),
+                            None => [0.0; 6],
+                        })
+                        .collect();
+                    bodies.scatter_all(cell, &mut ds, g);
                 }
             });
     }

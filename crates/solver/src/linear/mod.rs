@@ -264,6 +264,12 @@ impl Model {
         out
     }
 
+    /// Per body, whether its cells are B-bar cells (the plastic bodies':
+    /// their plastic flow keeps the volume, which the full strain locks).
+    pub fn mixed(&self) -> Vec<bool> {
+        self.plasticity.iter().map(Option::is_some).collect()
+    }
+
     /// Number of unknowns per harmonic.
     pub fn n_eq(&self) -> usize {
         self.dofs.n_eq
@@ -287,7 +293,7 @@ impl Model {
         let mut scratch = ElementScratch::new();
         for_each_element(
             &self.mesh,
-            &self.materials,
+            (&self.materials, &self.mixed()),
             &self.joints,
             m,
             &mut scratch,
@@ -315,11 +321,11 @@ impl Model {
     pub fn stiffness_terms(&self) -> Arc<StiffnessTerms> {
         let mut slot = self.terms.lock().unwrap_or_else(|e| e.into_inner());
         match &*slot {
-            Some(t) if t.matches(&self.materials, &self.joints) => t.clone(),
+            Some(t) if t.matches((&self.materials, &self.mixed()), &self.joints) => t.clone(),
             _ => {
                 let t = Arc::new(StiffnessTerms::assemble(
                     &self.mesh,
-                    &self.materials,
+                    (&self.materials, &self.mixed()),
                     &self.joints,
                     &self.dofs,
                     &self.pattern,
@@ -334,7 +340,7 @@ impl Model {
     fn current_terms(&self) -> Option<Arc<StiffnessTerms>> {
         let slot = self.terms.lock().unwrap_or_else(|e| e.into_inner());
         slot.as_ref()
-            .filter(|t| t.matches(&self.materials, &self.joints))
+            .filter(|t| t.matches((&self.materials, &self.mixed()), &self.joints))
             .cloned()
     }
 
@@ -381,6 +387,19 @@ impl Model {
             });
         }
         Ok(factor)
+    }
+
+    /// The factor of assembled `values` meant as a preconditioner (a
+    /// tangent stiffness near a collapse is nearly singular): the numeric
+    /// Cholesky factorization without [`Model::factorize_values`]' probe;
+    /// `None` when a pivot is not positive.
+    pub fn factorize_preconditioner(
+        &self,
+        m: u32,
+        values: &[f64],
+        pinned: Vec<bool>,
+    ) -> Option<HarmonicFactor> {
+        self.numeric(m, values, pinned).ok()
     }
 
     /// The numeric factorization of [`Model::factorize_values`], without
@@ -523,7 +542,7 @@ impl Model {
         let mut ue = Vec::with_capacity(54);
         for_each_element(
             &self.mesh,
-            &self.materials,
+            (&self.materials, &self.mixed()),
             &self.joints,
             m,
             &mut scratch,
@@ -548,7 +567,7 @@ impl Model {
         let supported = |n: usize| (3 * n..3 * n + 3).any(|d| self.dofs.is_supported(d));
         for_each_element_where(
             &self.mesh,
-            &self.materials,
+            (&self.materials, &self.mixed()),
             &self.joints,
             m,
             &mut scratch,

@@ -46,13 +46,20 @@ fn resultant(scene: &Scene, model: &Model, loads: Vec<Load>, m_max: u32) -> Resu
 }
 
 /// The load of `face` along the direction of `first` (its first load):
-/// the force along the first's force, or the torque of a pure torque.
+/// the force along the first's force, or without one the moment along the
+/// first's moment (a torque, or the turn of a tilting `motion`).
 fn along(first: &Resultants, r: &Resultants) -> f64 {
-    let norm = first.force.iter().map(|v| v * v).sum::<f64>().sqrt();
+    let dot = |a: &[f64; 3], b: &[f64; 3]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+    let norm = dot(&first.force, &first.force).sqrt();
     if norm > 0.0 {
-        first.force.iter().zip(&r.force).map(|(d, f)| d * f).sum::<f64>() / norm
+        dot(&first.force, &r.force) / norm
     } else {
-        r.moment[2] * first.moment[2].signum()
+        let norm = dot(&first.moment, &first.moment).sqrt();
+        if norm > 0.0 {
+            dot(&first.moment, &r.moment) / norm
+        } else {
+            0.0
+        }
     }
 }
 
