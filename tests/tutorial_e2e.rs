@@ -412,6 +412,10 @@ fn quotes(work: &Path, mesh: &Value) -> Vec<Quote> {
     // mean of the cut's two peaks (the stress field, an independent path)
     // within 1 %.
     let member = Table::read(&work.join("out/pile_member/member_pile.csv"));
+    let stages = Table::read(&work.join("out/pile_test/stages.csv"));
+    let along = |i: usize| stages.num(&stages.rows[i], "pile_head_along_load_end [m]");
+    let (test_peak, test_reload) = (along(0), along(2));
+    let test_residual = stages.num(&stages.rows[1], "pile_head_at_zero_load [m]");
     let mz: Vec<(f64, f64)> = member
         .rows
         .iter()
@@ -572,6 +576,15 @@ fn quotes(work: &Path, mesh: &Value) -> Vec<Quote> {
         q("MN m, 3.60 m", -z_max, 0.1),
         q("`M r / I` = 1.22 MPa", sigma_beam, 0.05),
         q("a = 0.6 m)", a, 0.0),
+        // 10. A load test.
+        q("load: 3.236 mm)", 1e3 * test_peak, 0.03),
+        q("back to 0.168 mm", 1e3 * test_residual, 0.1),
+        q("slipped shaft, 5.2 %", 100.0 * test_residual / test_peak, 0.1),
+        q(
+            "within 0.0004 %",
+            100.0 * (test_reload - test_peak).abs() / test_peak,
+            1.0,
+        ),
     ]
 }
 
@@ -621,7 +634,11 @@ fn tutorial_commands_files_and_numbers() {
     let work = tempfile::tempdir().unwrap();
     let listed: Vec<&Fence> = blocks.iter().filter(|b| b.file.is_some()).collect();
     let names: Vec<&str> = listed.iter().map(|b| b.file.as_deref().unwrap()).collect();
-    assert_eq!(names, ["pile.geo", "pile.json"], "the listings marked as files");
+    assert_eq!(
+        names,
+        ["pile.geo", "pile.json", "pile_test.json"],
+        "the listings marked as files"
+    );
     for block in &listed {
         let name = block.file.as_deref().unwrap();
         let file = std::fs::read_to_string(tutorial_dir().join(name)).unwrap();

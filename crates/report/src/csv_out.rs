@@ -174,6 +174,10 @@ pub fn write_load_path(
         let unit = applied_units.first().map_or("-", String::as_str);
         header.push(format!("dissipated [{unit} {length}]"));
     }
+    let plastic = first.observed.plastic_volume.is_some();
+    if plastic {
+        header.push(format!("plastic_volume [{length}^3]"));
+    }
     header.extend(["iterations [-]", "solves [-]", "rounds [-]", "cutbacks [-]"].map(String::from));
     let mut numbers = Vec::new();
     let rows = load_path
@@ -194,6 +198,9 @@ pub fn write_load_path(
             }
             if staged {
                 v.push(s.observed.dissipated.unwrap_or(0.0));
+            }
+            if plastic {
+                v.push(s.observed.plastic_volume.unwrap_or(0.0));
             }
             numbers.extend(&v);
             let mut row: Vec<String> = match &s.observed.stage {

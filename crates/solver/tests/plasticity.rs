@@ -5,7 +5,7 @@
 //! | test | claim | tolerance |
 //! |---|---|---|
 //! | thick cylinder, Tresca | plane strain (top and bottom held in z), internal pressure 1.2 times `2 c_u ln(b / a)`: the limit pressure factor, bracketed | 1 % (measured 0.994 to 1.003) |
-//! | partly plastic cylinder | at the pressure `c_u (1 - c^2 / b^2 + 2 ln(c / a))` (Hill): the radial and hoop stress at every Gauss point against the closed form; the elastic-plastic boundary at c | 1 % of c_u (measured 0.074 %; 0.36 % without B-bar); within a cell |
+//! | partly plastic cylinder | at the pressure `c_u (1 - c^2 / b^2 + 2 ln(c / a))` (Hill): the radial and hoop stress at every Gauss point against the closed form; the elastic-plastic boundary at c; the load path's plastic volume `pi (c^2 - a^2) L` | 1 % of c_u (measured 0.074 %; 0.36 % without B-bar); within a cell; 2 % |
 //! | thick cylinder, Mohr-Coulomb | phi = 20 deg, associated and psi = 0: `c cot(phi) ((b/a)^(2 sin phi / (1 + sin phi)) - 1)` (Yu 2000), bracketed | 1 % (measured 0.994 to 1.003) |
 //! | rod bent to its plastic moment | a Tresca rod clamped at its bottom, its top turned (a `motion` holding z only: pure bending) to 10 times the curvature of first yield: the moment at every step against `M(kappa)` of the circular section (plane sections, uniaxial stress); harmonic 1 alone | 1.5 % of M_p (measured 0.71 %), the end within 1 % (-0.39 %); M = 1 below 0.85 M_p (measured 0.79; M = 3: 0.977, M = 7: 0.9948 against 0.9950 at cells of 0.125) |
 //! | rigid footing on Tresca clay | N_c = 5.69 smooth, 6.05 rough (Eason & Shield 1960; Cox 1962): the plateau of a settlement-controlled push | 5 % above, 1 % below (measured +0.75 %, +0.72 % at 0.025 R cells; +2.1 %, +2.7 % without B-bar) |
@@ -112,6 +112,20 @@ fn a_tresca_thick_cylinder_yields_out_to_the_closed_form_radius() {
         "{n} points: stresses within {worst:.2e} c_u of the closed form (worst at r = {worst_at:.4}); yielding out to r = {r_plastic:.4}, elastic from r = {r_elastic:.4} (c = {c})"
     );
     assert!(worst < 0.01, "{worst}");
+    // The yielding volume of the last step: the annulus a < r < c of the
+    // slice (L = 0.25), within the Gauss points' resolution.
+    let volume = run
+        .load_path
+        .as_ref()
+        .unwrap()
+        .steps
+        .last()
+        .unwrap()
+        .observed
+        .plastic_volume;
+    let annulus = std::f64::consts::PI * (c * c - a * a) * 0.25;
+    println!("plastic volume {volume:?}, annulus {annulus:.5}");
+    assert!((volume.expect("a plastic volume") / annulus - 1.0).abs() < 0.02);
     // The boundary lies between the outermost yielding and the innermost
     // elastic Gauss point, within a cell (0.03125) of c.
     assert!(r_plastic < c + 0.03125 && r_elastic > c - 0.03125 && r_plastic > c - 0.03125);

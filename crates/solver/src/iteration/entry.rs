@@ -63,7 +63,7 @@ pub fn solve<T>(
     settings: &IterationSettings,
     start: Option<&JointStart>,
     stepping: Stepping,
-    observe: impl FnMut(f64, &Displacements, &JointField, &[crate::loads::HarmonicLoads]) -> T,
+    observe: impl FnMut(f64, &Displacements, &JointField, &super::types::StepBodies) -> T,
     mut progress: impl FnMut(&IterationRecord),
 ) -> Result<Solved<T>, IterationError> {
     let setup = Setup::new(problem, start)?;

@@ -78,5 +78,5 @@ pub use steps::{
 pub use sweep::OBSERVED_UP_TO;
 pub use types::{
     joint_point_infos, BodyField, IterationError, IterationRecord, IterationSettings, JointField, JointStart,
-    Method, Outcome, PointInfo, Problem, StageEnd, StageStart,
+    Method, Outcome, PointInfo, Problem, StageEnd, StageStart, StepBodies,
 };

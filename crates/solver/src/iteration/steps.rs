@@ -44,11 +44,11 @@ use super::setup::Setup;
 use super::state::History;
 use super::state::LoadState;
 use super::sweep::{Sweep, IMBALANCE_TOL};
+use super::types::StepBodies;
 use super::types::{
     solves, IterationError, IterationRecord, IterationSettings, JointField, Outcome, StageEnd,
 };
 use crate::joint_law::{commit, exceeds_tensile_strength, state_counts, PointHistory};
-use crate::loads::HarmonicLoads;
 use crate::scene::JointLaw;
 use crate::solution::Displacements;
 use serde::{Deserialize, Serialize};
@@ -176,7 +176,7 @@ pub(super) fn stepped<T>(
     control: StepControl,
     settings: &IterationSettings,
     progress: &mut dyn FnMut(&IterationRecord),
-    mut observe: impl FnMut(f64, &Displacements, &JointField, &[HarmonicLoads]) -> T,
+    mut observe: impl FnMut(f64, &Displacements, &JointField, &StepBodies) -> T,
 ) -> Result<(Outcome, Stepped<T>, StageEnd), IterationError> {
     // The reference Psi_0: the paper-law release of the elastic solution.
     let mut run = Run {
@@ -330,7 +330,7 @@ impl<T> Path<T> {
         &mut self,
         setup: &Setup,
         accepted: Vec<Accepted>,
-        observe: &mut impl FnMut(f64, &Displacements, &JointField, &[HarmonicLoads]) -> T,
+        observe: &mut impl FnMut(f64, &Displacements, &JointField, &StepBodies) -> T,
     ) -> (bool, Option<(f64, IterationError)>) {
         let mut easy = true;
         for (target, conv, rounds, hist) in accepted {
@@ -349,11 +349,14 @@ impl<T> Path<T> {
                 return (easy, Some((target, e)));
             }
             let field = sweep.field(&conv.ev);
-            let released = sweep.released_loads(&conv.x);
+            let bodies = StepBodies {
+                released: sweep.released_loads(&conv.x),
+                plastic_volume: sweep.plastic_volume(&conv.ev),
+            };
             self.committed = hist;
             self.lam_c = target;
             self.x_c.clone_from(&conv.x);
-            let observed = observe(self.lam_c, &displacements, &field, &released);
+            let observed = observe(self.lam_c, &displacements, &field, &bodies);
             let (open, slip, stick) = state_counts(&conv.ev.state);
             let iterations = conv.history.len();
             easy &= iterations <= EASY_ITERATIONS;

@@ -211,6 +211,26 @@ impl<'s, 'a> Sweep<'s, 'a> {
             .collect()
     }
 
+    /// The volume of the plastic bodies' yielding Gauss points in `ev`:
+    /// `sum_s w_s sum_q r |det J| w_q` over the yielding pairs (none without
+    /// plastic bodies).
+    pub(super) fn plastic_volume(&self, ev: &Eval) -> Option<f64> {
+        let bodies = self.setup.bodies.as_ref()?;
+        let (n_b, weights) = (bodies.n_points(), &self.setup.sections().weight);
+        let mut volume = 0.0;
+        for cell in &bodies.cells {
+            for q in 0..cell.values.n_points() {
+                let ring = cell.values.r(q) * cell.values.weight(q);
+                for (s, w) in weights.iter().enumerate() {
+                    if ev.yielding[s * n_b + cell.first + q] {
+                        volume += w * ring;
+                    }
+                }
+            }
+        }
+        Some(volume)
+    }
+
     /// The force and moment that the displacements `u` of released section
     /// forces `x` leave unbalanced, relative to the size of the load
     /// (`sum |lambda F|`, times the mesh's extent for moments): the

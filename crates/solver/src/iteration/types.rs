@@ -257,6 +257,19 @@ pub struct Outcome {
     pub released: Vec<crate::loads::HarmonicLoads>,
 }
 
+/// What a converged load step's `observe` sees of the plastic bodies
+/// (nothing without them).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct StepBodies {
+    /// The released forces `A x` as nodal loads per harmonic (empty
+    /// without plastic bodies): the reactions are `K u - f - A x` at the
+    /// supports.
+    pub released: Vec<crate::loads::HarmonicLoads>,
+    /// The volume of the yielding Gauss points (none without plastic
+    /// bodies).
+    pub plastic_volume: Option<f64>,
+}
+
 /// The field of the plastic bodies at every (section, Gauss point) pair
 /// (index `s * points + q`, the points cell by cell).
 #[derive(Clone, Debug, PartialEq)]

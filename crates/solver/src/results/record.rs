@@ -185,6 +185,10 @@ pub struct StepMeasure {
     /// the plastic slip.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub dissipated: Option<f64>,
+    /// With plastic bodies: the volume of their yielding Gauss points at the
+    /// step (length^3, each point's share of its ring and section).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub plastic_volume: Option<f64>,
 }
 
 /// The motion of a loaded face.

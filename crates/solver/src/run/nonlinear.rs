@@ -11,7 +11,7 @@ use super::start::Start;
 use super::{Run, Stopped};
 use crate::error::SolverError;
 use crate::fourier::Sections;
-use crate::iteration::{IterationRecord, JointField, Outcome};
+use crate::iteration::{IterationRecord, JointField, Outcome, StepBodies};
 use crate::loads::HarmonicLoads;
 use crate::results::{JointFieldFile, LoadPath, StepMeasure};
 use crate::scene::Scene;
@@ -59,7 +59,7 @@ pub(super) fn iterate(
     let mesh = &model.mesh;
     let springs: Vec<_> = model.joints.iter().map(|j| j.springs).collect();
     let member_bodies = member_bodies(scene, mesh);
-    let observe = |lambda: f64, u: &Displacements, field: &JointField, _: &[HarmonicLoads]| {
+    let observe = |lambda: f64, u: &Displacements, field: &JointField, bodies: &StepBodies| {
         let d = padded(u, all);
         let file = JointFieldFile::new(mesh, &springs, field);
         StepMeasure {
@@ -75,6 +75,7 @@ pub(super) fn iterate(
                 .collect(),
             stage: None,
             dissipated: None,
+            plastic_volume: bodies.plastic_volume,
         }
     };
     let loading = scene.solver.loading.into();

@@ -12,7 +12,7 @@ use super::start::Start;
 use crate::elements::JointSprings;
 use crate::error::SolverError;
 use crate::fourier::Sections;
-use crate::iteration::{IterationRecord, JointField, Outcome, StageEnd, StageStart};
+use crate::iteration::{IterationRecord, JointField, Outcome, StageEnd, StageStart, StepBodies};
 use crate::linear::Model;
 use crate::loads::{assemble_loads, load_resultants, HarmonicLoads, Resultants};
 use crate::results::{JointFieldFile, LoadPath, StageMark, StepMeasure};
@@ -206,7 +206,7 @@ pub(super) fn iterate_stages(
                 end,
             }),
         };
-        let observe = |lambda: f64, u: &Displacements, field: &JointField, released: &[HarmonicLoads]| {
+        let observe = |lambda: f64, u: &Displacements, field: &JointField, bodies: &StepBodies| {
             let d = padded(u, all);
             let file = JointFieldFile::new(mesh, &springs, field);
             let at = combine_loads(1.0, &base, lambda, &step_all);
@@ -226,7 +226,7 @@ pub(super) fn iterate_stages(
                 super::measures::reactions(
                     scene,
                     model,
-                    &super::nonlinear::with_released(at.clone(), released),
+                    &super::nonlinear::with_released(at.clone(), &bodies.released),
                     &d,
                 )
             } else {
@@ -261,6 +261,7 @@ pub(super) fn iterate_stages(
                     .collect(),
                 stage: Some(mark.clone()),
                 dissipated: Some(dissipated),
+                plastic_volume: bodies.plastic_volume,
             }
         };
         let solved = crate::iteration::solve(
