@@ -8,6 +8,7 @@
 //! | partly plastic cylinder | at the pressure `c_u (1 - c^2 / b^2 + 2 ln(c / a))` (Hill): the radial and hoop stress at every Gauss point against the closed form; the elastic-plastic boundary at c; the load path's plastic volume `pi (c^2 - a^2) L` | 1 % of c_u (measured 0.074 %; 0.36 % without B-bar); within a cell; 2 % |
 //! | thick cylinder, Mohr-Coulomb | phi = 20 deg, associated and psi = 0: `c cot(phi) ((b/a)^(2 sin phi / (1 + sin phi)) - 1)` (Yu 2000), bracketed | 1 % (measured 0.994 to 1.003) |
 //! | rod bent to its plastic moment | a Tresca rod clamped at its bottom, its top turned (a `motion` holding z only: pure bending) to 10 times the curvature of first yield: the moment at every step against `M(kappa)` of the circular section (plane sections, uniaxial stress); harmonic 1 alone | 1.5 % of M_p (measured 0.71 %), the end within 1 % (-0.39 %); M = 1 below 0.85 M_p (measured 0.79; M = 3: 0.977, M = 7: 0.9948 against 0.9950 at cells of 0.125) |
+//! | pile section pushed sideways | plane strain (geo/pile_section.geo), rigid pile: the elastic stiffness `8 pi G (1 - nu) / ((3 - 4 nu) ln(R/a) - (R^2 - a^2) / ((3 - 4 nu)(R^2 + a^2)))` (Randolph 1981); at u = 0.1 d, M = 8, P / (c_u d) = 9.14 smooth, 11.94 rough (Randolph & Houlsby 1984) | 0.1 % (measured 3e-7); 5 % above, 1 % below (measured +1.9 %, +2.6 %; +4.0 %, +3.5 % at M = 4) |
 //! | rigid footing on Tresca clay | N_c = 5.69 smooth, 6.05 rough (Eason & Shield 1960; Cox 1962): the plateau of a settlement-controlled push | 5 % above, 1 % below (measured +0.75 %, +0.72 % at 0.025 R cells; +2.1 %, +2.7 % without B-bar) |
 
 use axijoint_solver::run::{solve_scene, Run};
@@ -295,4 +296,79 @@ fn a_tresca_rod_bends_to_its_plastic_moment() {
     assert!(worst < 0.015, "{worst}");
     assert!((r.moment[1] / last - 1.0).abs() < 0.01);
     assert!(one < 0.85, "harmonic 1 alone: {one}");
+}
+
+/// A slice of Tresca clay round a rigid pile section (geo/pile_section.geo:
+/// pile radius 0.5, soil out to 10, 40 cells along r widening 20 times, the
+/// slice 0.1 thick with its top and bottom held in z: plane strain), the
+/// pile moved sideways by `u` (rough: held in r and theta; smooth: in r
+/// only), `harmonics` M.
+fn pile_section(rough: bool, u: f64, harmonics: u32, c_u: f64) -> Scene {
+    let hold = if rough {
+        json!(["r", "theta"])
+    } else {
+        json!(["r"])
+    };
+    let s = json!({
+        "title": "a pile section pushed sideways through clay",
+        "mesh": {"file": geo("pile_section.geo"), "parameters": {"a": 0.5, "R": 10.0, "L": 0.1, "n": 40}},
+        "materials": {"soil": {"E": 500.0, "nu": 0.3, "plasticity": {"type": "tresca", "c_u": c_u}}},
+        "supports": [{"on": "bottom", "fix": ["z"]}, {"on": "top", "fix": ["z"]}, {"on": "outer", "fix": "all"}],
+        "stages": [{"name": "push", "loads": [{"type": "motion", "on": "pile", "displacement": [u, 0, 0], "hold": hold}], "loading": {"steps": 8}}],
+        "harmonics": harmonics,
+        "solver": {"method": "newton"}
+    });
+    Scene::from_str(&s.to_string(), geo("plastic_pile_section.json")).expect("scene")
+}
+
+#[test]
+fn a_pile_section_pushed_through_tresca_clay_meets_randolph_and_houlsby() {
+    // Elastic first: the lateral stiffness of a rigid disc in an annulus
+    // held at R (plane strain; Randolph 1981), K = 8 pi G (1 - nu) / ((3 -
+    // 4 nu) ln(R / a) - (R^2 - a^2) / ((3 - 4 nu)(R^2 + a^2))).
+    let (a, r_out, e, nu): (f64, f64, f64, f64) = (0.5, 10.0, 500.0, 0.3);
+    let g = e / (2.0 * (1.0 + nu));
+    let k = 8.0 * std::f64::consts::PI * g * (1.0 - nu)
+        / ((3.0 - 4.0 * nu) * (r_out / a).ln()
+            - (r_out * r_out - a * a) / ((3.0 - 4.0 * nu) * (r_out * r_out + a * a)));
+    let run = solve(&pile_section(true, 0.01, 1, 1e9));
+    let stiffness = run.reactions.iter().find(|r| r.on == "pile").unwrap().force[0] / 0.1 / 0.01;
+    println!(
+        "elastic: K = {stiffness:.4}, closed form {k:.4} ({:+.4} %)",
+        100.0 * (stiffness / k - 1.0)
+    );
+    assert!((stiffness / k - 1.0).abs() < 1e-3);
+    // Then the limit: P / (c_u d) = 9.14 smooth, 11.94 rough (Randolph &
+    // Houlsby 1984; Martin & Randolph 2006), per unit length, pushed to
+    // u = 0.1 d.
+    for (rough, expected) in [(false, 9.14), (true, 11.94)] {
+        let run = solve(&pile_section(rough, 0.1, 8, 1.0));
+        let path = run.load_path.as_ref().unwrap();
+        let first = &path.steps[0];
+        let p = |s: &axijoint_solver::iteration::LoadStep<axijoint_solver::results::StepMeasure>| {
+            s.observed.faces[0].applied.unwrap_or(f64::NAN) / 0.1
+        };
+        let r = run
+            .reactions
+            .iter()
+            .find(|r| r.on == "pile")
+            .expect("the pile's reaction");
+        let limit = r.force[0] / 0.1;
+        println!(
+            "{}: P / (c_u d) = {limit:.4} (closed form {expected}, {:+.2} %), {} steps, {} solves; first step {:.4} against elastic {:.4}",
+            if rough { "rough" } else { "smooth" },
+            100.0 * (limit / expected - 1.0),
+            path.steps.len(),
+            path.steps.iter().map(|s| s.solves).sum::<u32>(),
+            p(first),
+            k * first.lambda * 0.1
+        );
+        assert!(
+            limit / expected - 1.0 < 0.05 && limit / expected - 1.0 > -0.01,
+            "{limit} vs {expected}"
+        );
+        // Below the elastic line from the start (the soil yields at once
+        // round the pile), and rising ever more slowly.
+        assert!(p(first) < k * first.lambda * 0.1);
+    }
 }
