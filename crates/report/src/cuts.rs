@@ -4,6 +4,7 @@
 //! ([`joint_crossings`]).
 
 use crate::field::{Field, Locator};
+use crate::recovery::PlasticStress;
 use axijoint_mesh::Mesh;
 
 /// One row of a profile.
@@ -194,12 +195,27 @@ fn point_at(points: &[[f64; 2]], s: f64) -> [f64; 2] {
 
 /// The profile along `points` at each of `theta_deg`: rows by theta, then
 /// position, then body (cell order). Points outside the mesh give no row.
+/// The stress is the field's (elastic D of the displacements): see
+/// [`profile_with`] for the plastic bodies'.
 pub fn profile(
     field: &Field,
     locator: &Locator,
     points: &[[f64; 2]],
     spacing: f64,
     theta_deg: &[f64],
+) -> Vec<CutRow> {
+    profile_with(field, locator, points, spacing, theta_deg, None)
+}
+
+/// [`profile`], the stress of a point in a cell of a plastic body from
+/// `plastic` (`plastic.json`, [`PlasticStress::at`]) when given.
+pub fn profile_with(
+    field: &Field,
+    locator: &Locator,
+    points: &[[f64; 2]],
+    spacing: f64,
+    theta_deg: &[f64],
+    plastic: Option<&PlasticStress>,
 ) -> Vec<CutRow> {
     let samples = sample_positions(field.mesh, points, spacing);
     let located: Vec<Vec<crate::field::Location>> = samples
@@ -226,7 +242,9 @@ pub fn profile(
                     z: p[1],
                     theta_deg: t,
                     body: field.mesh.bodies[cell.body].name.clone(),
-                    stress: field.stress(l.cell, l.xi, t.to_radians()),
+                    stress: plastic
+                        .and_then(|ps| ps.at(l.cell, *p, t.to_radians()))
+                        .unwrap_or_else(|| field.stress(l.cell, l.xi, t.to_radians())),
                 });
             }
         }

@@ -39,6 +39,7 @@ pub mod field;
 pub mod gmsh_view;
 pub mod plots;
 mod record;
+pub mod recovery;
 pub mod vtu;
 mod write;
 

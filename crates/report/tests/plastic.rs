@@ -14,6 +14,10 @@
 //!   positive `plastic_strain_eq`, every cell of the column at the outer
 //!   face 0 and 0; each cell's values are the mean over its meridional
 //!   cell's Gauss points of `plastic.json` at the section it names;
+//! - a radial cut's `sigma_r` and `sigma_theta` (recovered from
+//!   `plastic.json` in the plastic body) within 2 % of `c_u` of Hill's
+//!   closed form at every cut point, in the plastic zone and out of it;
+//!   `field.vtu`'s `sigma_cyl` at the cut's nodes within 3 %;
 //! - without `plastic.json` (a folder of an elastic run, or an older one)
 //!   the report still reads the folder and writes no plastic array.
 
@@ -33,7 +37,11 @@ fn geo(name: &str) -> PathBuf {
 }
 
 fn scene() -> Scene {
-    let s = json!({
+    Scene::from_str(&scene_json().to_string(), geo("plastic_cylinder.json")).expect("scene")
+}
+
+fn scene_json() -> serde_json::Value {
+    json!({
         "title": "thick cylinder",
         "mesh": {"file": geo("thick_cylinder.geo"), "parameters": {"a": 1.0, "hole": 0.5, "L": 0.25, "size": 0.0625}},
         "materials": {"body": {"E": 1000.0, "nu": 0.3, "plasticity": {"type": "tresca", "c_u": 1.0}}},
@@ -41,8 +49,32 @@ fn scene() -> Scene {
         "loads": [{"type": "traction", "on": "inner", "harmonic": 0, "t_r": 1.2484}],
         "harmonics": 0,
         "solver": {"method": "newton", "epsilon": 1e-8, "loading": {"steps": 4}}
-    });
-    Scene::from_str(&s.to_string(), geo("plastic_cylinder.json")).expect("scene")
+    })
+}
+
+/// Solves `scene` and writes its solution folder `dir` with `plastic.json`.
+fn solve_into(scene: &Scene, tmp: &Path, dir: &Path) {
+    let msh = tmp.join("mesh.msh");
+    let run = solve_scene(scene, Some(&msh), |_| {}).unwrap_or_else(|e| panic!("{}", e.error));
+    let mesh = &run.problem.model.mesh;
+    let body = run
+        .outcome
+        .as_ref()
+        .and_then(|o| o.body.as_ref())
+        .expect("a body field");
+    let field = PlasticFieldFile::new(mesh, body);
+    let header = solution_header(scene, &run);
+    write_solution(
+        dir,
+        &header,
+        &run.displacements,
+        None,
+        &msh,
+        mesh,
+        None,
+        Some(&field),
+    )
+    .unwrap();
 }
 
 fn close(a: f64, b: f64) -> bool {
@@ -177,4 +209,83 @@ fn thick_cylinder_plastic_zone_in_the_folder_and_the_vtu() {
         assert!(vtu.array("CellData", name).is_none(), "{name}");
     }
     assert!(vtu.array("CellData", "error_energy").is_some());
+}
+
+/// Hill's closed form for the thick cylinder (c_u = 1, a = 0.5, b = 1,
+/// plastic out to c = 0.75): `(sigma_r, sigma_theta)` at radius `r`.
+fn hill(r: f64) -> (f64, f64) {
+    let (a, b, c) = (0.5f64, 1.0f64, 0.75f64);
+    let k = c * c / (b * b);
+    if r <= c {
+        let p = 1.0 - k + 2.0 * (c / a).ln();
+        let s_r = -p + 2.0 * (r / a).ln();
+        (s_r, s_r + 2.0)
+    } else {
+        (-k * (b * b / (r * r) - 1.0), k * (b * b / (r * r) + 1.0))
+    }
+}
+
+#[test]
+fn thick_cylinder_cut_stress_is_the_returned_one() {
+    let mut s = scene_json();
+    s["cuts"] = json!([{"name": "radial", "from": [0.5, 0.125], "to": [1.0, 0.125],
+        "spacing": 0.025, "theta_deg": [0], "component": "sigma_theta"}]);
+    s["outputs"] = json!({"plots": false, "gmsh_views": false});
+    let scene = Scene::from_str(&s.to_string(), geo("plastic_cylinder.json")).expect("scene");
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("out");
+    solve_into(&scene, tmp.path(), &dir);
+    let saved = read_solution(&dir).unwrap();
+    write_report(&dir, &saved, None, None, &[]).unwrap();
+    let csv = std::fs::read_to_string(dir.join("cut_radial_theta0.csv")).unwrap();
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| {
+        header
+            .iter()
+            .position(|h| h.starts_with(name))
+            .unwrap_or_else(|| panic!("no column {name} in {header:?}"))
+    };
+    let (ir, isr, ith) = (col("r "), col("sigma_r "), col("sigma_theta "));
+    let (mut worst_r, mut worst_th, mut rows) = (0.0f64, 0.0f64, 0);
+    for line in lines {
+        let v: Vec<&str> = line.split(',').collect();
+        let num = |i: usize| v[i].trim().parse::<f64>().unwrap();
+        let r = num(ir);
+        let (sr, sth) = hill(r);
+        let (er, eth) = ((num(isr) - sr).abs(), (num(ith) - sth).abs());
+        println!(
+            "r {r:.4}: sigma_r {:+.4} ({sr:+.4}), sigma_theta {:+.4} ({sth:+.4})",
+            num(isr),
+            num(ith)
+        );
+        worst_r = worst_r.max(er);
+        worst_th = worst_th.max(eth);
+        rows += 1;
+    }
+    println!("cut: {rows} rows, worst error sigma_r {worst_r:.4}, sigma_theta {worst_th:.4} (c_u = 1)");
+    assert!(rows >= 21, "{rows} rows");
+    assert!(
+        worst_r <= 0.02 && worst_th <= 0.02,
+        "sigma_r {worst_r}, sigma_theta {worst_th}"
+    );
+
+    // field.vtu's sigma_cyl at the points of the ring theta = 0 on z = 0.125.
+    let vtu = read_vtu(&dir.join("field.vtu")).unwrap();
+    let values = |parent: &str, name: &str| vtu.array(parent, name).unwrap().values().unwrap();
+    let (xyz, cyl) = (values("Points", "Points"), values("PointData", "sigma_cyl"));
+    let (mut worst, mut count) = (0.0f64, 0);
+    for i in 0..vtu.n_points {
+        let [x, y, z] = [xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]];
+        if y.abs() > 1e-12 || x <= 0.0 || (z - 0.125).abs() > 1e-12 {
+            continue;
+        }
+        let (sr, sth) = hill(x);
+        worst = worst
+            .max((cyl[6 * i] - sr).abs())
+            .max((cyl[6 * i + 2] - sth).abs());
+        count += 1;
+    }
+    println!("field.vtu: {count} points on the cut, worst error {worst:.4}");
+    assert!(count >= 9 && worst <= 0.03, "{count} points, worst {worst}");
 }

@@ -109,7 +109,7 @@ mod encoding;
 mod joints;
 mod plastic;
 mod read;
-mod revolution;
+pub(crate) mod revolution;
 mod solid;
 mod transform;
 
@@ -121,6 +121,7 @@ pub use transform::stress_to_cartesian;
 
 use crate::error::ReportError;
 use crate::field::Field;
+use crate::recovery::PlasticStress;
 use axijoint_mesh::atomic;
 use axijoint_solver::results::{JointFieldFile, PlasticFieldFile};
 use axijoint_solver::scene::Outputs;
@@ -200,7 +201,11 @@ pub fn write_vtu_with(
             Outputs::VTU_FIELDS.join(", ")
         )));
     }
-    let mut solid = solid_grid(path, field, n_sections, fields)?;
+    let recovery = plastic
+        .map(|pf| PlasticStress::new(field.mesh, pf))
+        .transpose()
+        .map_err(|e| ReportError::Input(format!("{}: plastic field: {e}", path.display())))?;
+    let mut solid = solid_grid(path, field, n_sections, fields, recovery.as_ref())?;
     // The error estimate per cell (docs/accuracy.md), of each cell's
     // meridional cell.
     let density = density();

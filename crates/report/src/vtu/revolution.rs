@@ -133,14 +133,14 @@ pub(super) fn mid_angle(k: usize, n: usize) -> f64 {
 
 /// Maps an angle to the nearest section of a field known at sections (the
 /// joint field, the plastic bodies' field): `(section, mirrored)`.
-pub(super) struct SectionMap {
+pub(crate) struct SectionMap {
     theta: Vec<f64>,
     half: bool,
 }
 
 impl SectionMap {
     /// The sections at `sections_deg` with quadrature `weights`.
-    pub(super) fn new(sections_deg: &[f64], weights: &[f64]) -> SectionMap {
+    pub(crate) fn new(sections_deg: &[f64], weights: &[f64]) -> SectionMap {
         let theta: Vec<f64> = sections_deg.iter().map(|d| d.to_radians()).collect();
         // A half-circle set is recognised by its weights (each interior
         // section stands for +theta and -theta).
@@ -156,7 +156,7 @@ impl SectionMap {
 
     /// The section nearest `t`, and whether it stands for `t` mirrored
     /// (`2 pi - t`, a half-circle set with `t > pi`).
-    pub(super) fn nearest(&self, t: f64) -> (usize, bool) {
+    pub(crate) fn nearest(&self, t: f64) -> (usize, bool) {
         let t = t.rem_euclid(2.0 * PI);
         let (t, mirrored) = if self.half && t > PI {
             (2.0 * PI - t, true)

@@ -5,6 +5,7 @@ use super::revolution::{mid_ring_nodes, revolve, revolved_cell_type, Rings};
 use super::transform::{cartesian, stress_to_cartesian, trig_basis, trig_pairs, von_mises};
 use crate::error::ReportError;
 use crate::field::{Field, STRESS_NAMES};
+use crate::recovery::PlasticStress;
 use std::path::Path;
 
 /// Stress of a body's nodes as trigonometric polynomials in theta: the
@@ -77,8 +78,17 @@ impl NodalStress {
     }
 }
 
-/// The revolved bodies, with the point arrays `fields`.
-pub(super) fn solid_grid(path: &Path, field: &Field, n: usize, fields: &[&str]) -> Result<Grid, ReportError> {
+/// The revolved bodies, with the point arrays `fields`; the stress of a
+/// point of a plastic body from `plastic` when given: the mean over the
+/// plastic cells sharing its node of their recovered stress
+/// ([`PlasticStress::at`]) at the ring's angle.
+pub(super) fn solid_grid(
+    path: &Path,
+    field: &Field,
+    n: usize,
+    fields: &[&str],
+    plastic: Option<&PlasticStress>,
+) -> Result<Grid, ReportError> {
     let mesh = field.mesh;
     let want = |name: &str| fields.contains(&name);
     let needs_stress = ["stress", "sigma_cyl", "von_mises"].iter().any(|f| want(f));
@@ -99,6 +109,17 @@ pub(super) fn solid_grid(path: &Path, field: &Field, n: usize, fields: &[&str]) 
         let mids: Vec<usize> = (0..mesh.nodes.len()).filter(|&i| needs_mid[i]).collect();
         let rings = Rings::new(n, g.n_points(), mesh.nodes.len(), nodes, mids);
         let nodal = needs_stress.then(|| NodalStress::new(field, body, &rings));
+        // The plastic cells of each node (none without `plastic`).
+        let mut plastic_cells: Vec<Vec<usize>> = vec![Vec::new(); rings.nodes.len()];
+        if let (Some(ps), true) = (plastic, needs_stress) {
+            for (c, cell) in mesh.cells.iter().enumerate().filter(|(_, c)| c.body == body) {
+                if ps.has(c) {
+                    for &node in &cell.nodes {
+                        plastic_cells[rings.local[node]].push(c);
+                    }
+                }
+            }
+        }
         let m_disp = field.u.harmonics.iter().map(|h| h.m as usize).max().unwrap_or(0);
         let m_stress = nodal.as_ref().map_or(0, |st| (st.nc - 1) / 2);
         // The points ring by ring: the trigonometric values once per angle.
@@ -111,9 +132,22 @@ pub(super) fn solid_grid(path: &Path, field: &Field, n: usize, fields: &[&str]) 
                 let x = [p[0] * sc.1, p[0] * sc.0, p[1]];
                 let uc = field.u.at_trig(node, &trig);
                 let u = cartesian(uc, sc);
-                let s = nodal
-                    .as_ref()
-                    .map_or([0.0; 6], |st| st.at(rings.local[node], &basis));
+                let cells = &plastic_cells[rings.local[node]];
+                let s = match plastic.filter(|_| !cells.is_empty()) {
+                    Some(ps) => {
+                        let mut s = [0.0; 6];
+                        for &c in cells {
+                            let v = ps.at(c, p, theta).unwrap_or([0.0; 6]);
+                            for (a, x) in s.iter_mut().zip(v) {
+                                *a += x / cells.len() as f64;
+                            }
+                        }
+                        s
+                    }
+                    None => nodal
+                        .as_ref()
+                        .map_or([0.0; 6], |st| st.at(rings.local[node], &basis)),
+                };
                 finite &= x.iter().chain(&u).chain(&s).all(|v| v.is_finite());
                 g.points.extend(x);
                 disp.extend(u);

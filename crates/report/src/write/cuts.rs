@@ -5,17 +5,20 @@ use super::context::{fmt_angle, Ctx};
 use crate::error::ReportError;
 use crate::field::{Field, Locator};
 use crate::record::materials;
+use crate::recovery::PlasticStress;
 use crate::{csv_out, cut_plot, cuts, plots};
 use axijoint_solver::results::SavedSolution;
 use axijoint_solver::scene::Cut;
 
 /// What the cuts are sampled from: the field, the initial state alone
-/// (its own cut files) and the point locator.
+/// (its own cut files), the point locator and the plastic bodies' stress.
 pub(super) struct Cuts<'a> {
     pub ctx: Ctx<'a>,
     pub field: &'a Field<'a>,
     pub initial: Option<&'a Field<'a>>,
     pub locator: &'a Locator,
+    /// The plastic bodies' stress (`plastic.json`), if any.
+    pub plastic: Option<&'a PlasticStress<'a>>,
 }
 
 impl Cuts<'_> {
@@ -59,7 +62,14 @@ impl Cuts<'_> {
         let mut files = Vec::new();
         let mut series = Vec::new();
         for (k, &t) in cut.theta_deg.iter().enumerate() {
-            let rows = cuts::profile(self.field, self.locator, &[cut.from, cut.to], cut.spacing, &[t]);
+            let rows = cuts::profile_with(
+                self.field,
+                self.locator,
+                &[cut.from, cut.to],
+                cut.spacing,
+                &[t],
+                self.plastic,
+            );
             if outputs.csv {
                 let name = format!("cut_{}_theta{}.csv", cut.name, fmt_angle(t));
                 csv_out::write_cut(&dir.join(&name), &rows, length, stress)?;

@@ -17,6 +17,7 @@ use crate::error::ReportError;
 use crate::estimate::{self, Estimate};
 use crate::field::{Field, Initial, Locator};
 use crate::record::{history, load_path, materials};
+use crate::recovery::PlasticStress;
 use axijoint_solver::iteration::IterationRecord;
 use axijoint_solver::results::{read_joint_field, read_plastic_field, SavedSolution};
 use context::Ctx;
@@ -79,6 +80,11 @@ pub fn write_report(
     let locator = Locator::new(&saved.mesh);
     let joints = read_joint_field(dir).map_err(|e| ReportError::Input(e.to_string()))?;
     let plastic = read_plastic_field(dir).map_err(|e| ReportError::Input(e.to_string()))?;
+    let recovery = plastic
+        .as_ref()
+        .map(|pf| PlasticStress::new(&saved.mesh, pf))
+        .transpose()
+        .map_err(|e| ReportError::Input(format!("{}: plastic field: {e}", dir.display())))?;
     let history = history(saved);
     let path = load_path(saved);
     // One estimate for the cut errors and the `.vtu`'s cell errors.
@@ -114,6 +120,7 @@ pub fn write_report(
         field: &field,
         initial: initial_field.as_ref(),
         locator: &locator,
+        plastic: recovery.as_ref(),
     };
     let estimated = || {
         let estimate = estimate.get_or_init(|| Estimate::new(&field));

@@ -13,6 +13,12 @@ use crate::linear::Model;
 use crate::material::Elastic;
 use crate::plasticity::YieldCriterion;
 
+/// The body tangent at one (section, body point): the derivative of the
+/// released stress `D eps - sigma(eps)` with respect to the strain, `D -
+/// C` (C the consistent tangent of the return); `None` where the point
+/// stays elastic (nothing released, derivative 0).
+pub(super) type BodyTangent = Option<[[f64; 6]; 6]>;
+
 /// Values per body node in a section's values.
 pub(super) const BODY_VALUES: usize = 6;
 
@@ -186,7 +192,7 @@ impl Bodies {
     /// (upper triangle, `pinned` equations skipped): `sum_q sum_s w_s B_s^T
     /// T_s B_s r |det J| w_q` with `B_s = B_U Phi_s + B_D Phi'_s`, the
     /// basis `basis[s] = ((a, b), (a', b'))` and `T_s` the symmetric part of
-    /// each point's [`BodyTangent`](super::release::BodyTangent) (index
+    /// each point's [`BodyTangent`] (index
     /// `s * points + q`; none: elastic there). The sections are summed per
     /// kind pair first (`T_kl = sum_s w_s k_s l_s T_s`), so a point costs the
     /// same at any number of sections.
@@ -195,7 +201,7 @@ impl Bodies {
         model: &Model,
         basis: &[SectionBasis],
         weights: &[f64],
-        tangents: &[super::release::BodyTangent],
+        tangents: &[BodyTangent],
         pinned: &[bool],
         values: &mut [f64],
     ) {

@@ -3,7 +3,7 @@
 //! joint field, [`Sweep::evaluate`]) and the joint tangent of the release
 //! ([`release_tangent`]); the reference `Psi_0` ([`reference_release`]).
 
-use super::body::Bodies;
+use super::body::{Bodies, BodyTangent};
 use super::eval::{BodySectionEval, Eval, SectionEval};
 use super::setup::Setup;
 use super::state::{LoadState, Release};
@@ -19,12 +19,6 @@ use rayon::prelude::*;
 /// released traction `k d - P(k d)` with respect to the trial traction
 /// `k d`; `None` for a sticking point (nothing released, derivative 0).
 pub(super) type Tangent = crate::joint_law::ReleaseTangent;
-
-/// The body tangent at one (section, body point): the derivative of the
-/// released stress `D eps - sigma(eps)` with respect to the strain, `D -
-/// C` (C the consistent tangent of the return); `None` where the point
-/// stays elastic (nothing released, derivative 0).
-pub(super) type BodyTangent = Option<[[f64; 6]; 6]>;
 
 /// The tangents of every (section, point) pair of the joints and of the
 /// plastic bodies.

@@ -5,7 +5,8 @@
 use super::elastic::Problem;
 use super::factors::solve_loads;
 use super::measures::{joint_relative_displacements, linear_tractions, max_displacement};
-use super::model::{iteration_settings, joint_laws, scene_sections};
+use super::model::{iteration_settings, joint_laws};
+use super::sections::scene_sections;
 use crate::error::SolverError;
 use crate::iteration::{IterationError, IterationRecord, JointStart};
 use crate::loads::HarmonicLoads;

@@ -342,3 +342,19 @@ pub(super) fn padded(d: &Displacements, all: &[HarmonicLoads]) -> Displacements 
             .collect(),
     }
 }
+
+/// `loads` plus the released forces of plastic bodies (`released`, per
+/// harmonic; empty: none): the forces a reaction `K u - f` balances.
+pub(super) fn with_released(mut loads: Vec<HarmonicLoads>, released: &[HarmonicLoads]) -> Vec<HarmonicLoads> {
+    for r in released {
+        if let Some(h) = loads.iter_mut().find(|h| h.m == r.m) {
+            for (a, b) in h.symmetric.iter_mut().zip(&r.symmetric) {
+                *a += b;
+            }
+            for (a, b) in h.antisymmetric.iter_mut().zip(&r.antisymmetric) {
+                *a += b;
+            }
+        }
+    }
+    loads
+}

@@ -24,6 +24,7 @@ mod model;
 mod motion;
 mod nonlinear;
 mod plausible;
+mod sections;
 mod stages;
 mod start;
 
@@ -39,12 +40,13 @@ pub use measures::{
     face_displacement, joint_relative_displacements, linear_joint_field, max_displacement, reactions,
 };
 pub use model::{
-    build_model, iteration_settings, joint_springs, mesh_scene, scene_sections, support_flags, support_nodes,
+    build_model, iteration_settings, joint_springs, mesh_scene, support_flags, support_nodes,
     REFERENCE_STIFFNESS,
 };
 pub use plausible::{
     warnings, LARGE_DISPLACEMENT, MANY_HARMONICS, MODULUS_CONTRAST, SAME_AREAS, SAME_FACES, WEIGHT_STRAIN,
 };
+pub use sections::scene_sections;
 
 use crate::error::SolverError;
 use crate::iteration::{IterationRecord, JointField, Outcome};

@@ -5,8 +5,9 @@
 use super::check::{faces_measure, halved, HalfRun};
 use super::elastic::{ElasticLoad, Problem};
 use super::initial::InitialState;
-use super::measures::{face_motion, joint_areas, member_bodies, padded, reactions, scaled};
-use super::model::{iteration_settings, joint_laws, scene_sections};
+use super::measures::{face_motion, joint_areas, member_bodies, padded, reactions, scaled, with_released};
+use super::model::{iteration_settings, joint_laws};
+use super::sections::scene_sections;
 use super::start::Start;
 use super::{Run, Stopped};
 use crate::error::SolverError;
@@ -193,20 +194,4 @@ pub(super) fn finish(
     run.load_path = load_path;
     run.stage_ends = ends;
     Ok(run)
-}
-
-/// `loads` plus the released forces of plastic bodies (`released`, per
-/// harmonic; empty: none): the forces a reaction `K u - f` balances.
-pub(super) fn with_released(mut loads: Vec<HarmonicLoads>, released: &[HarmonicLoads]) -> Vec<HarmonicLoads> {
-    for r in released {
-        if let Some(h) = loads.iter_mut().find(|h| h.m == r.m) {
-            for (a, b) in h.symmetric.iter_mut().zip(&r.symmetric) {
-                *a += b;
-            }
-            for (a, b) in h.antisymmetric.iter_mut().zip(&r.antisymmetric) {
-                *a += b;
-            }
-        }
-    }
-    loads
 }

@@ -226,7 +226,7 @@ pub(super) fn iterate_stages(
                 super::measures::reactions(
                     scene,
                     model,
-                    &super::nonlinear::with_released(at.clone(), &bodies.released),
+                    &super::measures::with_released(at.clone(), &bodies.released),
                     &d,
                 )
             } else {
