@@ -314,9 +314,22 @@ pub fn estimate_lines(summary: &Summary) -> Vec<String> {
             }
         }
     }
+    // (The recovery is of the elastic stress of the displacements: where a
+    // body yields it measures the plastic strain, not the mesh's error.)
+    let plastic = summary.files.iter().any(|f| f == "plastic.json");
     let energy = summary.estimated_energy_error.map_or_else(
         || "no estimate".to_string(),
-        |e| format!("{:.2} % in the energy norm", 100.0 * e),
+        |e| {
+            format!(
+                "{:.2} % in the energy norm{}",
+                100.0 * e,
+                if plastic {
+                    " (of the elastic stress: where the soil yields it measures the plastic strain, not the mesh's error)"
+                } else {
+                    ""
+                }
+            )
+        },
     );
     let mut lines = vec![format!(
         "  estimated error: {}{energy}",
