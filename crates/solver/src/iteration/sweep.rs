@@ -234,12 +234,14 @@ impl<'s, 'a> Sweep<'s, 'a> {
     /// The force and moment that the displacements `u` of released section
     /// forces `x` leave unbalanced, relative to the size of the load
     /// (`sum |lambda F|`, times the mesh's extent for moments): the
-    /// resultant of the reactions `K u` at the supports and of the loads
-    /// `lambda F + A x` elsewhere, over the harmonics 0 and 1 of `u` (the
-    /// others have no resultant). Zero in exact arithmetic, as `K` has no
-    /// resultant and the released forces come in opposite pairs; large
-    /// where a mechanism (a body that open or sliding joints leave free)
-    /// makes the solution huge and its rounding error as large as the load.
+    /// resultant of the reactions `K u - A x` at the supports and of the
+    /// loads `lambda F` elsewhere, over the harmonics 0 and 1 of `u` (the
+    /// others have no resultant). Zero in exact arithmetic, as the internal
+    /// forces `K u - A x` have no resultant (the released forces are those
+    /// of a self-balanced traction or stress) and equal the loads at the
+    /// free DOFs; large where a mechanism (a body that open or sliding
+    /// joints or yielding soil leave free) makes the solution huge and its
+    /// rounding error as large as the load.
     pub(super) fn imbalance(&self, x: &[f64], u: &Displacements) -> f64 {
         let (setup, lambda) = (self.setup, self.state.lambda);
         let mesh = &setup.model.mesh;
