@@ -19,37 +19,7 @@ pub struct PlasticStress<'a> {
 impl<'a> PlasticStress<'a> {
     /// The recovery of `pf` on `mesh`; an error when they do not match.
     pub fn new(mesh: &Mesh, pf: &'a PlasticFieldFile) -> Result<PlasticStress<'a>, String> {
-        if pf.sections_deg.is_empty()
-            || pf.values.len() != pf.sections_deg.len()
-            || pf.section_weights.len() != pf.sections_deg.len()
-        {
-            return Err(format!(
-                "{} sections, {} weights, {} rows of values",
-                pf.sections_deg.len(),
-                pf.section_weights.len(),
-                pf.values.len()
-            ));
-        }
-        if let Some(s) = pf.values.iter().position(|v| v.len() != pf.points.len()) {
-            return Err(format!(
-                "section {s} has {} values for {} points",
-                pf.values[s].len(),
-                pf.points.len()
-            ));
-        }
-        let mut points_of: Vec<Vec<usize>> = vec![Vec::new(); mesh.cells.len()];
-        for (i, p) in pf.points.iter().enumerate() {
-            points_of
-                .get_mut(p.cell)
-                .ok_or_else(|| {
-                    format!(
-                        "point {i} is in cell {}, the mesh has {}",
-                        p.cell,
-                        mesh.cells.len()
-                    )
-                })?
-                .push(i);
-        }
+        let points_of = cell_points(mesh, pf)?;
         Ok(PlasticStress {
             pf,
             map: SectionMap::new(&pf.sections_deg, &pf.section_weights),
@@ -145,6 +115,44 @@ fn inverse(a: &[[f64; 3]; 3]) -> Option<[[f64; 3]; 3]> {
         }
     }
     Some(inv)
+}
+
+/// The Gauss points of each meridional cell of `mesh` in `pf` (none in an
+/// elastic body), after checking that `pf`'s sections, values and cells
+/// fit together and the mesh; the error says what does not.
+pub(crate) fn cell_points(mesh: &Mesh, pf: &PlasticFieldFile) -> Result<Vec<Vec<usize>>, String> {
+    if pf.sections_deg.is_empty()
+        || pf.values.len() != pf.sections_deg.len()
+        || pf.section_weights.len() != pf.sections_deg.len()
+    {
+        return Err(format!(
+            "{} sections, {} weights, {} rows of values",
+            pf.sections_deg.len(),
+            pf.section_weights.len(),
+            pf.values.len()
+        ));
+    }
+    if let Some(s) = pf.values.iter().position(|v| v.len() != pf.points.len()) {
+        return Err(format!(
+            "section {s} has {} values for {} points",
+            pf.values[s].len(),
+            pf.points.len()
+        ));
+    }
+    let mut points_of: Vec<Vec<usize>> = vec![Vec::new(); mesh.cells.len()];
+    for (i, p) in pf.points.iter().enumerate() {
+        points_of
+            .get_mut(p.cell)
+            .ok_or_else(|| {
+                format!(
+                    "point {i} is in cell {}, the mesh has {}",
+                    p.cell,
+                    mesh.cells.len()
+                )
+            })?
+            .push(i);
+    }
+    Ok(points_of)
 }
 
 #[cfg(test)]

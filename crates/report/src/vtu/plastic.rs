@@ -22,38 +22,7 @@ pub(super) fn plastic_arrays(
     n: usize,
 ) -> Result<Vec<Array>, ReportError> {
     let bad = |m: String| ReportError::Input(format!("{}: plastic field: {m}", path.display()));
-    if pf.sections_deg.is_empty()
-        || pf.values.len() != pf.sections_deg.len()
-        || pf.section_weights.len() != pf.sections_deg.len()
-    {
-        return Err(bad(format!(
-            "{} sections, {} weights, {} rows of values",
-            pf.sections_deg.len(),
-            pf.section_weights.len(),
-            pf.values.len()
-        )));
-    }
-    if let Some(s) = pf.values.iter().position(|v| v.len() != pf.points.len()) {
-        return Err(bad(format!(
-            "section {s} has {} values for {} points",
-            pf.values[s].len(),
-            pf.points.len()
-        )));
-    }
-    // The Gauss points of each meridional cell.
-    let mut points_of: Vec<Vec<usize>> = vec![Vec::new(); mesh.cells.len()];
-    for (i, p) in pf.points.iter().enumerate() {
-        points_of
-            .get_mut(p.cell)
-            .ok_or_else(|| {
-                bad(format!(
-                    "point {i} is in cell {}, the mesh has {}",
-                    p.cell,
-                    mesh.cells.len()
-                ))
-            })?
-            .push(i);
-    }
+    let points_of = crate::recovery::cell_points(mesh, pf).map_err(bad)?;
     let map = SectionMap::new(&pf.sections_deg, &pf.section_weights);
     // The section of each slot (the mirror image of a half-circle set is
     // the same: both values are even in theta).
