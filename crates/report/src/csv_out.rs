@@ -39,7 +39,8 @@ fn num(v: f64) -> String {
     format!("{v:.9e}")
 }
 
-/// A cut profile at one theta: `s, r, z, theta, body, sigma_r ... tau_ztheta`.
+/// A cut profile at one theta: `s, r, z, theta, body, sigma_r ... tau_ztheta`
+/// (and `pore_pressure` with ground water).
 pub fn write_cut(path: &Path, rows: &[CutRow], length: &str, stress: &str) -> Result<(), ReportError> {
     let mut header = vec![
         format!("s [{length}]"),
@@ -49,9 +50,18 @@ pub fn write_cut(path: &Path, rows: &[CutRow], length: &str, stress: &str) -> Re
         "body".to_string(),
     ];
     header.extend(STRESS_NAMES.iter().map(|n| format!("{n} [{stress}]")));
+    let water = rows.iter().any(|r| r.pore_pressure.is_some());
+    if water {
+        header.push(format!("pore_pressure [{stress}]"));
+    }
     let numbers: Vec<f64> = rows
         .iter()
-        .flat_map(|r| [r.s, r.r, r.z, r.theta_deg].into_iter().chain(r.stress))
+        .flat_map(|r| {
+            [r.s, r.r, r.z, r.theta_deg]
+                .into_iter()
+                .chain(r.stress)
+                .chain(r.pore_pressure)
+        })
         .collect();
     let body: Vec<Vec<String>> = rows
         .iter()
@@ -64,6 +74,9 @@ pub fn write_cut(path: &Path, rows: &[CutRow], length: &str, stress: &str) -> Re
                 r.body.clone(),
             ];
             v.extend(r.stress.iter().map(|&x| num(x)));
+            if water {
+                v.push(num(r.pore_pressure.unwrap_or(0.0)));
+            }
             v
         })
         .collect();

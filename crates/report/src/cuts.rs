@@ -20,8 +20,12 @@ pub struct CutRow {
     pub theta_deg: f64,
     /// Body name.
     pub body: String,
-    /// `(sigma_r, sigma_z, sigma_theta, tau_rz, tau_rtheta, tau_ztheta)`.
+    /// `(sigma_r, sigma_z, sigma_theta, tau_rz, tau_rtheta, tau_ztheta)`,
+    /// total.
     pub stress: [f64; 6],
+    /// The pore pressure (compression positive) with ground water; none
+    /// without.
+    pub pore_pressure: Option<f64>,
 }
 
 /// Sample positions along the polyline `points`: every `spacing`, the
@@ -245,6 +249,7 @@ pub fn profile_with(
                     stress: plastic
                         .and_then(|ps| ps.at(l.cell, *p, t.to_radians()))
                         .unwrap_or_else(|| field.stress(l.cell, l.xi, t.to_radians())),
+                    pore_pressure: field.water().map(|w| w.pressure(p[1])),
                 });
             }
         }

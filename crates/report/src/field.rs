@@ -5,7 +5,7 @@ use axijoint_mesh::shapes::MAX_CELL_NODES;
 use axijoint_mesh::{geometry::jacobian, CellKind, Mesh};
 use axijoint_solver::elements::StrainPoint;
 use axijoint_solver::material::Elastic;
-use axijoint_solver::scene::InitialStress;
+use axijoint_solver::scene::{InitialStress, Water};
 use axijoint_solver::solution::Displacements;
 use rstar::{RTree, RTreeObject, AABB};
 
@@ -152,7 +152,8 @@ pub struct Field<'a> {
 
 /// The initial state of a solution: the stresses are `sigma_0` of the
 /// bodies plus those of the initial phase's displacements plus those of
-/// [`Field::u`].
+/// [`Field::u`], less the pore pressure `p I` with ground water (the
+/// model's stress is effective, outputs are total).
 #[derive(Clone)]
 pub struct Initial<'a> {
     /// Initial stress and unit weight of each body (`None`: no initial
@@ -160,14 +161,18 @@ pub struct Initial<'a> {
     pub stress: Vec<Option<(InitialStress, f64)>>,
     /// The displacements of the initial phase (harmonic 0), if any.
     pub u: Option<&'a Displacements>,
+    /// The ground water, if any.
+    pub water: Option<Water>,
 }
 
 impl<'a> Initial<'a> {
     /// The initial state of a saved solution (`None` without an initial
-    /// phase).
+    /// phase and without water).
     pub fn of(saved: &'a axijoint_solver::results::SavedSolution) -> Option<Initial<'a>> {
-        saved.header.initial.as_ref()?;
         let scene = &saved.header.scene;
+        if saved.header.initial.is_none() && scene.water.is_none() {
+            return None;
+        }
         Some(Initial {
             stress: saved
                 .mesh
@@ -175,10 +180,13 @@ impl<'a> Initial<'a> {
                 .iter()
                 .map(|b| {
                     let m = scene.materials.get(&b.name)?;
-                    m.initial_stress.map(|s| (s, m.unit_weight))
+                    m.initial_stress
+                        .filter(|_| saved.header.initial.is_some())
+                        .map(|s| (s, m.unit_weight))
                 })
                 .collect(),
             u: saved.initial_displacements.as_ref(),
+            water: scene.water,
         })
     }
 }
@@ -276,16 +284,27 @@ impl Field<'_> {
     /// where the body has none).
     fn sigma0(&self, init: &Initial, cell: usize, point: &StrainPoint) -> [f64; 6] {
         let c = &self.mesh.cells[cell];
-        let Some((s0, gamma)) = init.stress[c.body] else {
-            return [0.0; 6];
-        };
         let z: f64 = c
             .nodes
             .iter()
             .zip(point.n())
             .map(|(&k, ni)| ni * self.mesh.nodes[k][1])
             .sum();
-        s0.at(z, gamma)
+        let mut s = match init.stress.get(c.body).copied().flatten() {
+            Some((s0, gamma)) => s0.at(z, gamma, init.water.as_ref()),
+            None => [0.0; 6],
+        };
+        if let Some(w) = &init.water {
+            for v in &mut s[..3] {
+                *v -= w.pressure(z);
+            }
+        }
+        s
+    }
+
+    /// The ground water of the solution, if any.
+    pub fn water(&self) -> Option<&Water> {
+        self.initial.as_ref().and_then(|i| i.water.as_ref())
     }
 
     /// [`Field::stress`] at `xi` of `cell` as a trigonometric polynomial

@@ -62,7 +62,7 @@ fn solve_into(scene: &Scene, tmp: &Path, dir: &Path) {
         .as_ref()
         .and_then(|o| o.body.as_ref())
         .expect("a body field");
-    let field = PlasticFieldFile::new(mesh, body);
+    let field = PlasticFieldFile::new(mesh, body, None);
     let header = solution_header(scene, &run);
     write_solution(
         dir,
@@ -115,7 +115,7 @@ fn thick_cylinder_plastic_zone_in_the_folder_and_the_vtu() {
         .as_ref()
         .and_then(|o| o.body.as_ref())
         .expect("a body field");
-    let field = PlasticFieldFile::new(mesh, body);
+    let field = PlasticFieldFile::new(mesh, body, None);
     let dir = tmp.path().join("out");
     let header = solution_header(&scene, &run);
     write_solution(

@@ -75,6 +75,7 @@ pub fn initial_load(scene: &Scene, model: &Model) -> Result<InitialLoad, SceneEr
     let n = mesh.nodes.len();
     let weight = gravity_load(scene, mesh)?;
     let bodies = body_stresses(scene, model);
+    let water = scene.water.as_ref();
     let mut stress = vec![0.0; 3 * n];
     let mut fe = vec![0.0; 3 * MAX_CELL_NODES];
     let mut coords = Vec::with_capacity(MAX_CELL_NODES);
@@ -90,7 +91,7 @@ pub fn initial_load(scene: &Scene, model: &Model) -> Result<InitialLoad, SceneEr
         coords.extend(cell.nodes.iter().map(|&k| mesh.nodes[k]));
         let fe = &mut fe[..3 * cell.nodes.len()];
         fe.fill(0.0);
-        stress_forces(&mut values, cell.kind, &coords, |x| s0.at(x[1], gamma), fe);
+        stress_forces(&mut values, cell.kind, &coords, |x| s0.at(x[1], gamma, water), fe);
         for (i, &k) in cell.nodes.iter().enumerate() {
             for c in 0..3 {
                 stress[3 * k + c] += fe[3 * i + c];
@@ -118,7 +119,7 @@ pub fn initial_load(scene: &Scene, model: &Model) -> Result<InitialLoad, SceneEr
                     .collect();
                 let mut t = [0.0; 3];
                 for (s0, gamma) in &sides {
-                    let ti = on_axes(s0.at(point.position[1], *gamma), point.tangent);
+                    let ti = on_axes(s0.at(point.position[1], *gamma, water), point.tangent);
                     for c in 0..3 {
                         t[c] += ti[c] / sides.len() as f64;
                     }

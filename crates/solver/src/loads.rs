@@ -493,15 +493,20 @@ fn add_body_forces(
     let mut coords = Vec::with_capacity(MAX_CELL_NODES);
     let mut values = crate::elements::CellValues::with_default_rule(axijoint_mesh::CellKind::Quad9);
     for cell in &mesh.cells {
-        let gamma = weights[cell.body];
-        if gamma == 0.0 {
+        let force = BodyForce {
+            gamma: weights[cell.body],
+            k_h,
+            gravity,
+            water: scene.water.as_ref(),
+        };
+        if force.gamma == 0.0 {
             continue;
         }
         coords.clear();
         coords.extend(cell.nodes.iter().map(|&k| mesh.nodes[k]));
         let fe = &mut fe[..3 * cell.nodes.len()];
         for m in 0..2 {
-            if !cell_body_load(&mut values, cell.kind, &coords, m, gamma, k_h, gravity, fe) {
+            if !cell_body_load(&mut values, cell.kind, &coords, m, &force, fe) {
                 continue;
             }
             let target = &mut out[m as usize].symmetric;
@@ -515,31 +520,47 @@ fn add_body_forces(
     Ok(())
 }
 
+/// The body force of one material: its unit weight, the seismic
+/// coefficient, whether the weight acts (it loads the initial phase when
+/// the scene has one) and the ground water (the weight buoyant below it).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct BodyForce<'a> {
+    pub(crate) gamma: f64,
+    pub(crate) k_h: f64,
+    pub(crate) gravity: bool,
+    pub(crate) water: Option<&'a crate::scene::Water>,
+}
+
 /// The nodal forces `fe` of one cell's body force in harmonic `m` (its
-/// symmetric family): the self-weight `-gamma` in z (m = 0, if `gravity`)
-/// and the seismic `k_h gamma` in +x (m = 1). `false`, `fe` untouched,
-/// when the cell has none in that harmonic.
-#[allow(clippy::too_many_arguments)]
+/// symmetric family): the self-weight `-gamma` in z (m = 0, if `gravity`;
+/// buoyant below the water table) and the seismic `k_h gamma` in +x
+/// (m = 1, the whole mass). `false`, `fe` untouched, when the cell has
+/// none in that harmonic.
 pub(crate) fn cell_body_load(
     values: &mut crate::elements::CellValues,
     kind: axijoint_mesh::CellKind,
     coords: &[[f64; 2]],
     m: u32,
-    gamma: f64,
-    k_h: f64,
-    gravity: bool,
+    force: &BodyForce,
     fe: &mut [f64],
 ) -> bool {
-    let b = match m {
-        0 if gravity => [0.0, -gamma, 0.0],
-        1 if k_h != 0.0 => [k_h * gamma, 0.0, -k_h * gamma],
-        _ => return false,
-    };
-    if gamma == 0.0 {
+    let BodyForce {
+        gamma,
+        k_h,
+        gravity,
+        water,
+    } = *force;
+    if gamma == 0.0 || !(m == 0 && gravity || m == 1 && k_h != 0.0) {
         return false;
     }
     fe.fill(0.0);
-    body_force_load(values, kind, coords, m, b, fe);
+    if m == 0 {
+        let bz = |x: [f64; 2]| [0.0, crate::scene::Water::body_force_z(water, gamma, x[1]), 0.0];
+        body_force_load(values, kind, coords, m, bz, fe);
+    } else {
+        let b = [k_h * gamma, 0.0, -k_h * gamma];
+        body_force_load(values, kind, coords, m, |_| b, fe);
+    }
     true
 }
 

@@ -32,7 +32,7 @@ use crate::elements::CellValues;
 use crate::iteration::JointField;
 use crate::joint_law::JointState;
 use crate::linear::Model;
-use crate::loads::{add_node_resultant, cell_body_load, HarmonicLoads, Resultants};
+use crate::loads::{add_node_resultant, cell_body_load, BodyForce, HarmonicLoads, Resultants};
 use crate::scene::Scene;
 use crate::solution::Displacements;
 use axijoint_mesh::shapes::MAX_CELL_NODES;
@@ -244,7 +244,13 @@ pub fn member_forces(
         for m in 0..2u32 {
             let mi = m as usize;
             let fe = &mut fe[..3 * nn];
-            if cell_body_load(&mut values, cell.kind, &coords, m, gamma, k_h, gravity, fe) {
+            let force = BodyForce {
+                gamma,
+                k_h,
+                gravity,
+                water: scene.water.as_ref(),
+            };
+            if cell_body_load(&mut values, cell.kind, &coords, m, &force, fe) {
                 let mut w = zero();
                 for (i, &k) in cell.nodes.iter().enumerate() {
                     let bi = [0, 1, 2].map(|j| lambda * fe[3 * i + j]);

@@ -70,7 +70,8 @@ pub fn print_summary(path: &Path, scene: &Scene, header: &SolutionHeader, out: &
     if let Some(i) = &header.initial {
         let b = &i.balance;
         crate::say!(
-            "  initial phase: weight {:.6e} {f}, out-of-balance {:.3e} {f} ({:.2e} of the largest nodal force), {} iterations, max |u| {:.6e} {l} (displacements below are from its end)",
+            "  initial phase: {}weight {:.6e} {f}, out-of-balance {:.3e} {f} ({:.2e} of the largest nodal force), {} iterations, max |u| {:.6e} {l} (displacements below are from its end)",
+            if scene.water.is_some() { "buoyant " } else { "" },
             b.weight,
             b.max_force,
             b.relative,

@@ -155,7 +155,7 @@ pub fn write_run(solved: &Scene, run: &Run, msh: &Path, out: &Path) -> Result<So
         .outcome
         .as_ref()
         .and_then(|o| o.body.as_ref())
-        .map(|b| PlasticFieldFile::new(&model.mesh, b));
+        .map(|b| PlasticFieldFile::new(&model.mesh, b, solved.water.as_ref()));
     write_solution(
         out,
         &header,
@@ -189,7 +189,7 @@ pub fn write_last_iterate(
     let plastic = outcome
         .body
         .as_ref()
-        .map(|b| PlasticFieldFile::new(&model.mesh, b));
+        .map(|b| PlasticFieldFile::new(&model.mesh, b, scene.water.as_ref()));
     write_solution(
         out,
         &header,
@@ -216,6 +216,8 @@ pub struct LimitReached {
     pub dir: String,
     /// With stages: the stage it stopped in (the factor is within it).
     pub stage: Option<String>,
+    /// What carries the load: "the joints", "the yielding soil" or both.
+    pub carriers: &'static str,
 }
 
 impl LimitReached {
@@ -223,15 +225,26 @@ impl LimitReached {
         let of = self.stage.as_ref().map_or(String::new(), |s| format!(" of {s}"));
         if self.beyond_capacity {
             format!(
-                "limit load factor {:.4}{of}: the scene's load exceeds what the joints can carry (the load factor {:.4} found no equilibrium); the outputs in {} are those of the load factor {:.4}",
-                self.factor, self.failed_at, self.dir, self.factor
+                "limit load factor {:.4}{of}: the scene's load exceeds what {} can carry (the load factor {:.4} found no equilibrium); the outputs in {} are those of the load factor {:.4}",
+                self.factor, self.carriers, self.failed_at, self.dir, self.factor
             )
         } else {
             format!(
-                "the run stopped at the load factor {:.4}{of}, short of the whole load, for a reason that does not show the load exceeds the joints' capacity: {}; the outputs in {} are those of the load factor {:.4}",
-                self.factor, self.reason, self.dir, self.factor
+                "the run stopped at the load factor {:.4}{of}, short of the whole load, for a reason that does not show the load exceeds what {} can carry: {}; the outputs in {} are those of the load factor {:.4}",
+                self.factor, self.carriers, self.reason, self.dir, self.factor
             )
         }
+    }
+}
+
+/// What carries a scene's load beyond its elastic part: its nonlinear
+/// joints, its plastic bodies, or both.
+fn carriers(scene: &Scene) -> &'static str {
+    let plastic = scene.materials.values().any(|m| m.plasticity.is_some());
+    match (scene.has_nonlinear_joints(), plastic) {
+        (true, true) => "the joints and the yielding soil",
+        (false, true) => "the yielding soil",
+        _ => "the joints",
     }
 }
 
@@ -250,6 +263,7 @@ pub fn check_limit(header: &SolutionHeader, out: &Path) -> Result<()> {
                 .and_then(|r| r.load_path.as_ref())
                 .and_then(|p| p.stopped_in.as_ref())
                 .map(|m| m.label()),
+            carriers: carriers(&header.scene),
         }
         .into()),
         None => Ok(()),

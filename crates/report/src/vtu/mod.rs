@@ -45,6 +45,7 @@
 //! | `stress` | Cartesian tensor, 9 components, row-major `XX XY XZ YX YY YZ ZX ZY ZZ` |
 //! | `sigma_cyl` | `(sigma_r, sigma_z, sigma_theta, tau_rz, tau_rtheta, tau_ztheta)` |
 //! | `von_mises` | equivalent stress |
+//! | `pore_pressure` | with ground water, beside any stress array: `p` (compression positive); the stresses are total |
 //!
 //! The nodal stress of a body is the average, over the body's cells at that
 //! node, of each cell's own stress at the node (never across bodies). Cell

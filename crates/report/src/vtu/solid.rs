@@ -201,6 +201,10 @@ pub(super) fn solid_grid(
     .into_iter()
     .filter(|a| want(a.name))
     .collect();
+    if let (Some(w), true) = (field.water(), needs_stress) {
+        let p = g.points.chunks_exact(3).map(|x| w.pressure(x[2])).collect();
+        g.point_data.push(Array::f64("pore_pressure", 1, p));
+    }
     g.cell_data = vec![
         Array {
             name: "body",

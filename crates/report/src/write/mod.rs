@@ -68,15 +68,20 @@ pub fn write_report(
     let no_displacement = axijoint_solver::solution::Displacements {
         harmonics: Vec::new(),
     };
-    let initial_field = field.initial.as_ref().map(|init| Field {
-        mesh: &saved.mesh,
-        materials: &mats,
-        u: init.u.unwrap_or(&no_displacement),
-        initial: Some(Initial {
-            stress: init.stress.clone(),
-            u: None,
-        }),
-    });
+    let initial_field = field
+        .initial
+        .as_ref()
+        .filter(|_| saved.header.initial.is_some())
+        .map(|init| Field {
+            mesh: &saved.mesh,
+            materials: &mats,
+            u: init.u.unwrap_or(&no_displacement),
+            initial: Some(Initial {
+                stress: init.stress.clone(),
+                u: None,
+                water: init.water,
+            }),
+        });
     let locator = Locator::new(&saved.mesh);
     let joints = read_joint_field(dir).map_err(|e| ReportError::Input(e.to_string()))?;
     let plastic = read_plastic_field(dir).map_err(|e| ReportError::Input(e.to_string()))?;

@@ -413,11 +413,12 @@ pub fn solid_stiffness_bbar(
 }
 
 /// Consistent nodal forces of a body force of harmonic `m` with amplitudes
-/// `b = (b_r, b_z, b_theta)` (force / length^3, the families' cos / sin
-/// factors as for tractions) on one cell, added to `out` (node-major, `3 n`):
+/// `b(r, z) = (b_r, b_z, b_theta)` (force / length^3, the families' cos /
+/// sin factors as for tractions) on one cell, added to `out` (node-major,
+/// `3 n`):
 ///
 /// ```text
-/// f_i += c_m * sum_q N_i(q) b r(q) |det J(q)| w_q
+/// f_i += c_m * sum_q N_i(q) b(x_q) r(q) |det J(q)| w_q
 /// ```
 ///
 /// with the rule of `values` (exact for a constant b on straight cells up to
@@ -431,13 +432,14 @@ pub fn body_force_load(
     kind: CellKind,
     coords: &[[f64; 2]],
     m: u32,
-    b: [f64; 3],
+    b: impl Fn([f64; 2]) -> [f64; 3],
     out: &mut [f64],
 ) {
     let values = reinit(values, kind, coords);
     let cm = c_m(m);
     for q in 0..values.n_points() {
         let scale = ring_weight(values, q, cm);
+        let b = b(values.position(q));
         for (i, ni) in values.n(q).iter().enumerate() {
             for c in 0..DOF_PER_NODE {
                 out[DOF_PER_NODE * i + c] += scale * ni * b[c];

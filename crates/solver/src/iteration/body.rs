@@ -105,6 +105,22 @@ impl Bodies {
         }))
     }
 
+    /// Each Gauss point's position `(r, z)`, cell by cell.
+    pub(super) fn positions(&self) -> Vec<[f64; 2]> {
+        self.cells
+            .iter()
+            .flat_map(|c| (0..c.values.n_points()).map(|q| c.values.position(q)))
+            .collect()
+    }
+
+    /// Each Gauss point's cell (index into the mesh's cells).
+    pub(super) fn cells_of_points(&self) -> Vec<usize> {
+        self.cells
+            .iter()
+            .flat_map(|c| std::iter::repeat_n(c.cell, c.values.n_points()))
+            .collect()
+    }
+
     /// Number of Gauss points.
     pub(super) fn n_points(&self) -> usize {
         self.criteria.len()
@@ -325,4 +341,19 @@ fn projected_operators(cell: &PlasticCell) -> Vec<[Vec<[f64; 6]>; KINDS]> {
         }
     }
     ops
+}
+
+/// The Gauss points of the plastic bodies of `model`, each with its cell
+/// (index into the mesh's cells) and position `(r, z)`, in the order of an
+/// iteration's body fields (cells in mesh order); empty without plastic
+/// bodies.
+pub fn plastic_points(model: &Model) -> Result<Vec<(usize, [f64; 2])>, IterationError> {
+    let Some(bodies) = Bodies::new(model)? else {
+        return Ok(Vec::new());
+    };
+    Ok(bodies
+        .cells_of_points()
+        .into_iter()
+        .zip(bodies.positions())
+        .collect())
 }

@@ -69,6 +69,7 @@ mod traction;
 mod transfer;
 mod types;
 
+pub use body::plastic_points;
 pub use entry::{solve, stress_transfer, Solved, Stepping};
 pub use probe::FixedPoint;
 pub use steps::{

@@ -257,6 +257,7 @@ impl Sweep<'_, '_> {
         let g = &mut out.g[start..];
         g.fill(0.0);
         let n_b = bodies.n_points();
+        let start = &self.setup.start;
         for cell in &bodies.cells {
             let d = cell.elastic.d_matrix();
             let eps = bodies.strains(cell, u_b);
@@ -265,12 +266,15 @@ impl Sweep<'_, '_> {
             for (q, eps) in eps.iter().enumerate() {
                 let k = cell.first + q;
                 let committed = self.state.plastic_of(s * n_b + k);
-                let elastic: [f64; 6] = std::array::from_fn(|c| eps[c] - committed[c]);
-                let trial: [f64; 6] = (d * nalgebra::Vector6::from(elastic)).into();
-                let r = return_map(&cell.elastic, &bodies.criteria[k], trial);
+                let r = return_map(
+                    &cell.elastic,
+                    &bodies.criteria[k],
+                    self.trial(&d, k, eps, &committed),
+                );
                 if r.region != Region::Elastic {
-                    // D eps - sigma = D eps_p (committed and of the step).
-                    let carried: [f64; 6] = (d * nalgebra::Vector6::from(*eps)).into();
+                    // sigma_0 + D eps - sigma = D eps_p (committed and of
+                    // the step).
+                    let carried = self.carried(&d, k, eps);
                     released[q] = std::array::from_fn(|c| carried[c] - r.stress[c]);
                     any = true;
                 } else if committed != [0.0; 6] {
@@ -278,13 +282,28 @@ impl Sweep<'_, '_> {
                     any = true;
                 }
                 out.sigma[k] = r.stress;
-                out.plastic[k] = std::array::from_fn(|c| committed[c] + r.plastic_strain[c]);
+                let before = start.body_plastic.get(k).copied().unwrap_or_default();
+                out.plastic[k] = std::array::from_fn(|c| before[c] + committed[c] + r.plastic_strain[c]);
                 out.yielding[k] = r.region != Region::Elastic;
             }
             if any {
                 bodies.scatter_all(cell, &mut released, g);
             }
         }
+    }
+
+    /// The stress the elastic model carries at body point `k` with strain
+    /// `eps`: `sigma_0 + D eps` (`sigma_0` the start's).
+    fn carried(&self, d: &nalgebra::Matrix6<f64>, k: usize, eps: &[f64; 6]) -> [f64; 6] {
+        let s0 = self.setup.start.body_stress.get(k).copied().unwrap_or_default();
+        let de: [f64; 6] = (d * nalgebra::Vector6::from(*eps)).into();
+        std::array::from_fn(|c| s0[c] + de[c])
+    }
+
+    /// The trial stress of body point `k`: `sigma_0 + D (eps - eps_p)`.
+    fn trial(&self, d: &nalgebra::Matrix6<f64>, k: usize, eps: &[f64; 6], committed: &[f64; 6]) -> [f64; 6] {
+        let elastic: [f64; 6] = std::array::from_fn(|c| eps[c] - committed[c]);
+        self.carried(d, k, &elastic)
     }
 
     /// The tangent of every (section, point) of the joints and the plastic
@@ -313,8 +332,7 @@ impl Sweep<'_, '_> {
                             continue;
                         }
                         let committed = self.state.plastic_of(s * n_b + k);
-                        let elastic: [f64; 6] = std::array::from_fn(|c| eps[c] - committed[c]);
-                        let trial: [f64; 6] = (d * nalgebra::Vector6::from(elastic)).into();
+                        let trial = self.trial(&d, k, eps, &committed);
                         let r = return_map(&cell.elastic, &bodies.criteria[k], trial);
                         ts[k] = Some(std::array::from_fn(|i| {
                             std::array::from_fn(|j| d[(i, j)] - r.tangent[i][j])

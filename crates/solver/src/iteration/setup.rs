@@ -160,6 +160,17 @@ impl<'a> Setup<'a> {
                     start.debonded.len()
                 )));
             }
+            let n_b = setup.bodies.as_ref().map_or(0, Bodies::n_points);
+            for (what, len) in [
+                ("stresses", start.body_stress.len()),
+                ("plastic strains", start.body_plastic.len()),
+            ] {
+                if len != 0 && len != n_b {
+                    return Err(IterationError::Setup(format!(
+                        "the start state has {len} body {what} for {n_b} plastic body points"
+                    )));
+                }
+            }
             setup.start = start.clone();
         }
         let t0_max = setup

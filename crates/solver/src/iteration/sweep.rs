@@ -352,14 +352,8 @@ impl<'s, 'a> Sweep<'s, 'a> {
     /// The plastic bodies' field of an evaluation.
     pub(super) fn body_field(&self, ev: &Eval) -> Option<super::types::BodyField> {
         let bodies = self.setup.bodies.as_ref()?;
-        let mut points = Vec::with_capacity(bodies.n_points());
-        let mut cells = Vec::with_capacity(bodies.n_points());
-        for cell in &bodies.cells {
-            for q in 0..cell.values.n_points() {
-                points.push(cell.values.position(q));
-                cells.push(cell.cell);
-            }
-        }
+        let points = bodies.positions();
+        let cells = bodies.cells_of_points();
         Some(super::types::BodyField {
             sections: self.setup.sections().clone(),
             points,

@@ -226,14 +226,21 @@ pub struct JointField {
     pub debonded: Vec<bool>,
 }
 
-/// The joint state an iteration starts from (the end of an initial phase),
-/// per (section, point) pair, index `s * n_points + p`.
+/// The state an iteration starts from (the end of an initial phase): the
+/// joints' per (section, point) pair, index `s * n_points + p`, and the
+/// plastic bodies' per Gauss point (axisymmetric: the same at every
+/// section; empty: unstressed).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct JointStart {
     /// Traction `(tau_xi, sigma, tau_theta)` carried at zero displacement.
     pub traction: Vec<[f64; 3]>,
     /// Debonded pairs.
     pub debonded: Vec<bool>,
+    /// The stress of each plastic body point at zero displacement.
+    pub body_stress: Vec<[f64; 6]>,
+    /// The plastic strain each plastic body point starts with (reported
+    /// with the field's; the return counts from `body_stress`).
+    pub body_plastic: Vec<[f64; 6]>,
 }
 
 /// A converged nonlinear solution.

@@ -23,12 +23,20 @@ pub struct BodyPointOut {
     pub r: f64,
     /// Position.
     pub z: f64,
+    /// The pore pressure there with ground water (compression positive).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub pore_pressure: f64,
+}
+
+fn is_zero(v: &f64) -> bool {
+    *v == 0.0
 }
 
 /// The values of a plastic body at one Gauss point and section.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PlasticValues {
-    /// Stress `(s_r, s_z, s_th, t_rz, t_rth, t_zth)`, with the initial stress.
+    /// Total stress `(s_r, s_z, s_th, t_rz, t_rth, t_zth)`, with the initial
+    /// stress (the effective stress less the pore pressure with water).
     pub sigma: [f64; 6],
     /// Plastic strain, same order, engineering shears.
     pub plastic: [f64; 6],
@@ -60,9 +68,14 @@ pub fn equivalent_plastic_strain(e: &[f64; 6]) -> f64 {
 }
 
 impl PlasticFieldFile {
-    /// The plastic bodies' field `field` on `mesh`.
-    pub fn new(mesh: &Mesh, field: &crate::iteration::BodyField) -> Self {
-        let points = field
+    /// The plastic bodies' field `field` on `mesh`, its stress made total
+    /// with `water`.
+    pub fn new(
+        mesh: &Mesh,
+        field: &crate::iteration::BodyField,
+        water: Option<&crate::scene::Water>,
+    ) -> Self {
+        let points: Vec<BodyPointOut> = field
             .points
             .iter()
             .zip(&field.cells)
@@ -71,14 +84,23 @@ impl PlasticFieldFile {
                 cell,
                 r,
                 z,
+                pore_pressure: water.map_or(0.0, |w| w.pressure(z)),
             })
             .collect();
         let n_p = field.points.len();
+        let total = |k: usize| {
+            let p = points[k % n_p.max(1)].pore_pressure;
+            let mut s = field.sigma[k];
+            for v in &mut s[..3] {
+                *v -= p;
+            }
+            s
+        };
         let values = (0..field.sections.theta.len())
             .map(|s| {
                 (s * n_p..(s + 1) * n_p)
                     .map(|k| PlasticValues {
-                        sigma: field.sigma[k],
+                        sigma: total(k),
                         plastic: field.plastic[k],
                         yielding: field.yielding[k],
                     })
@@ -191,6 +213,7 @@ mod tests {
                 cell: i / 2,
                 r: 0.5 + x(i).abs(),
                 z: -x(i + 11),
+                pore_pressure: if i == 4 { x(3).abs() } else { 0.0 },
             })
             .collect();
         let values = (0..3)

@@ -9,6 +9,7 @@ use super::model::{iteration_settings, joint_laws};
 use super::sections::scene_sections;
 use crate::error::SolverError;
 use crate::iteration::{IterationError, IterationRecord, JointStart};
+use crate::linear::Model;
 use crate::loads::HarmonicLoads;
 use crate::scene::Scene;
 use crate::solution::Displacements;
@@ -31,16 +32,46 @@ pub struct InitialState {
     pub traction: Vec<[f64; 3]>,
     /// Debonded joint points.
     pub debonded: Vec<bool>,
+    /// The stress of each plastic body point at the end of the phase
+    /// (axisymmetric; empty without plastic bodies), in the order of
+    /// [`crate::iteration::plastic_points`].
+    pub body_stress: Vec<[f64; 6]>,
+    /// The plastic strain of each plastic body point at the end of the
+    /// phase (same order).
+    pub body_plastic: Vec<[f64; 6]>,
 }
 
 impl InitialState {
-    /// The joint start state of an iteration on `n_sections` sections.
+    /// The start state of an iteration on `n_sections` sections.
     pub fn joint_start(&self, n_sections: usize) -> JointStart {
         JointStart {
             traction: self.traction.repeat(n_sections),
             debonded: self.debonded.repeat(n_sections),
+            body_stress: self.body_stress.clone(),
+            body_plastic: self.body_plastic.clone(),
         }
     }
+}
+
+/// The initial stress of every plastic body point of `model` (in the order
+/// of [`crate::iteration::plastic_points`]): the material's
+/// `initial_stress` (effective with water), zero where it has none.
+fn plastic_point_stress(scene: &Scene, model: &Model) -> Result<Vec<[f64; 6]>, SolverError> {
+    let points = crate::iteration::plastic_points(model).map_err(|e| SolverError::InitialPhase {
+        beyond_capacity: false,
+        message: e.to_string(),
+    })?;
+    if points.is_empty() {
+        return Ok(Vec::new());
+    }
+    let bodies = crate::initial::body_stresses(scene, model);
+    Ok(points
+        .iter()
+        .map(|&(cell, p)| match bodies[model.mesh.cells[cell].body] {
+            Some((s0, gamma)) => s0.at(p[1], gamma, scene.water.as_ref()),
+            None => [0.0; 6],
+        })
+        .collect())
 }
 
 /// Solves the initial phase of `scene` on the factors of `problem`
@@ -63,21 +94,23 @@ pub fn initial_phase(
         prescribed: None,
     }];
     let n_points = il.traction.len();
-    let (displacements, iterations, traction, debonded) = if !scene.has_nonlinear_joints()
-        || model.mesh.joints.is_empty()
-    {
+    let body_stress = plastic_point_stress(scene, model)?;
+    let linear = (!scene.has_nonlinear_joints() || model.mesh.joints.is_empty()) && body_stress.is_empty();
+    let (displacements, iterations, traction, debonded, body) = if linear {
         // No iteration: the linear joints end at t0 + k d of the phase.
         let u = solve_loads(model, &problem.factors, &phase);
         let points = crate::iteration::joint_point_infos(model);
         let axisymmetric = crate::fourier::Sections::full_circle(vec![0.0]).expect("one section is valid");
         let d = joint_relative_displacements(&points, &u, &axisymmetric);
         let traction = linear_tractions(model, &points, &d, Some(&il.traction));
-        (u, 0, traction, vec![false; n_points])
+        (u, 0, traction, vec![false; n_points], None)
     } else {
         let sections = scene_sections(scene, model, loads)?;
         let start = JointStart {
             traction: il.traction.repeat(sections.len()),
             debonded: vec![false; sections.len() * n_points],
+            body_stress: body_stress.clone(),
+            body_plastic: Vec::new(),
         };
         let laws = joint_laws(scene, model);
         let settings = iteration_settings(scene);
@@ -117,13 +150,20 @@ pub fn initial_phase(
         let outcome = solved.outcome;
         let iterations = outcome.history.len();
         let field = outcome.field;
+        // The phase is axisymmetric: its first section holds every point.
+        let body = outcome.body.map(|b| {
+            let n_b = b.points.len();
+            (b.sigma[..n_b].to_vec(), b.plastic[..n_b].to_vec())
+        });
         (
             outcome.displacements,
             iterations,
             field.p[..n_points].to_vec(),
             field.debonded[..n_points].to_vec(),
+            body,
         )
     };
+    let (body_stress, body_plastic) = body.unwrap_or((body_stress, Vec::new()));
     Ok(InitialState {
         max_displacement: max_displacement(n, &displacements),
         displacements,
@@ -131,5 +171,7 @@ pub fn initial_phase(
         iterations,
         traction,
         debonded,
+        body_stress,
+        body_plastic,
     })
 }

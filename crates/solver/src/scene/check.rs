@@ -87,6 +87,18 @@ impl Scene {
                 ));
             }
         }
+        if let Some(w) = &self.water {
+            self.finite("water.surface_z", &[w.surface_z])?;
+            if !(w.unit_weight.is_finite() && w.unit_weight > 0.0) {
+                return Err(self.invalid(
+                    "water.unit_weight",
+                    format!(
+                        "{} is not allowed: the unit weight of water > 0",
+                        Short(w.unit_weight)
+                    ),
+                ));
+            }
+        }
         for (name, mat) in &self.materials {
             if let Err(e) = mat.elastic().validate() {
                 let field = match e {
@@ -99,12 +111,6 @@ impl Scene {
                 self.check_initial_stress(name, init)?;
             }
             if let Some(p) = &mat.plasticity {
-                if self.has_initial_phase() {
-                    return Err(self.invalid(
-                        format!("materials.{name}.plasticity"),
-                        "a plastic material with an initial phase (a material's `initial_stress`) is not supported yet: the bodies would have to start from the phase's stress",
-                    ));
-                }
                 let key = |k: &str| format!("materials.{name}.plasticity.{k}");
                 for (k, v) in p.numbers() {
                     self.finite(&key(k), &[v])?;
@@ -276,6 +282,17 @@ impl Scene {
                 surcharge,
             } => {
                 self.finite(&key("surface_z"), &[surface_z])?;
+                let gamma = self.materials[name].unit_weight;
+                if let Some(w) = self.water.filter(|w| gamma > 0.0 && gamma < w.unit_weight) {
+                    return Err(self.invalid(
+                        format!("materials.{name}.unit_weight"),
+                        format!(
+                            "{} is below the water's {}: a geostatic soil lighter than water would float (give the saturated unit weight)",
+                            Short(gamma),
+                            Short(w.unit_weight)
+                        ),
+                    ));
+                }
                 if !(k0.is_finite() && k0 >= 0.0) {
                     return Err(self.invalid(key("K0"), format!("{} is not allowed: K0 >= 0", Short(k0))));
                 }

@@ -44,7 +44,7 @@ pub use joint::{
 pub use load::{Family, Linear, Load, MotionLoad, PointLoad, ResultantLoad, RingLoad, TractionLoad};
 pub use settings::{
     Adapt, Cut, Fix, InitialStress, Loading, Material, MeshSource, Outputs, Plasticity, Sections,
-    SolverMethod, SolverSettings, StageOutputs, Support, Units, VtuSections,
+    SolverMethod, SolverSettings, StageOutputs, Support, Units, VtuSections, Water,
 };
 pub use stage::{stage_label, Cyclic, Leg, Stage, MAX_STAGES};
 
@@ -155,6 +155,9 @@ pub struct Scene {
     /// `k_h gamma` in +x on every material with a unit weight (harmonic 1).
     #[serde(default, skip_serializing_if = "settings::is_zero")]
     pub seismic_coefficient: f64,
+    /// Ground water at rest (drained analysis); none: dry.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub water: Option<Water>,
     /// Highest harmonic M (the run solves harmonics 0..=M), or `"auto"`.
     pub harmonics: Harmonics,
     /// Theta sections of the joint law; `None`: the paper's M + 1 sections.

@@ -231,6 +231,39 @@ impl Plasticity {
     }
 }
 
+/// Ground water at rest, for a drained analysis: the pore pressure is
+/// hydrostatic, `p = gamma_w (surface_z - z)` below `surface_z` and 0
+/// above, and does not change with the loads. The bodies' model stress is
+/// the effective stress `sigma' = sigma + p I` (tension positive), in
+/// balance with the buoyant weight `gamma - gamma_w` below the surface;
+/// yield criteria and the joints' law act on it; outputs give the total
+/// stress `sigma' - p I` with `p` beside it (docs/theory.md, "Water").
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Water {
+    /// The water table (phreatic surface) z_w (length).
+    pub surface_z: f64,
+    /// Unit weight of water gamma_w > 0 (force / length^3).
+    pub unit_weight: f64,
+}
+
+impl Water {
+    /// The pore pressure at height z (compression positive, >= 0).
+    pub fn pressure(&self, z: f64) -> f64 {
+        self.unit_weight * (self.surface_z - z).max(0.0)
+    }
+
+    /// The body force in z of a material of unit weight `gamma` at height
+    /// z: `-gamma` above the water table, the buoyant `gamma_w - gamma`
+    /// below (a weightless material, `gamma = 0`, has no buoyancy either).
+    pub fn body_force_z(water: Option<&Water>, gamma: f64, z: f64) -> f64 {
+        match water {
+            Some(w) if gamma != 0.0 && z < w.surface_z => w.unit_weight - gamma,
+            _ => -gamma,
+        }
+    }
+}
+
 /// The stress a material starts from, axisymmetric (harmonic 0), tension
 /// positive, in the components `(sigma_r, sigma_z, sigma_theta, tau_rz)`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -240,6 +273,8 @@ pub enum InitialStress {
     /// (gamma the material's `unit_weight`, q the `surcharge`: the vertical
     /// stress at `z = z_s`, e.g. the weight of layers above), above it
     /// `sigma_z = -q`; `sigma_r = sigma_theta = K0 sigma_z`, `tau_rz = 0`.
+    /// With [`Water`] the stress is effective: below the water table the
+    /// weight is the buoyant `gamma - gamma_w`.
     Geostatic {
         /// Ground surface z_s (length).
         surface_z: f64,
@@ -269,15 +304,22 @@ pub enum InitialStress {
 
 impl InitialStress {
     /// `(sigma_r, sigma_z, sigma_theta, tau_rz, tau_rtheta, tau_ztheta)` at
-    /// height z, for a material of unit weight `gamma`.
-    pub fn at(&self, z: f64, gamma: f64) -> [f64; 6] {
+    /// height z, for a material of unit weight `gamma` (effective with
+    /// `water`).
+    pub fn at(&self, z: f64, gamma: f64, water: Option<&Water>) -> [f64; 6] {
         match *self {
             InitialStress::Geostatic {
                 surface_z,
                 k0,
                 surcharge,
             } => {
-                let sz = -surcharge - gamma * (surface_z - z).max(0.0);
+                // Below the water table up to the ground surface, the water's
+                // weight is carried by the pore pressure.
+                let lift = match water {
+                    Some(w) if gamma != 0.0 => w.unit_weight * (w.surface_z.min(surface_z) - z).max(0.0),
+                    _ => 0.0,
+                };
+                let sz = -surcharge - gamma * (surface_z - z).max(0.0) + lift;
                 [k0 * sz, sz, k0 * sz, 0.0, 0.0, 0.0]
             }
             InitialStress::Constant {
