@@ -413,6 +413,26 @@ fn quotes(work: &Path, mesh: &Value) -> Vec<Quote> {
     // within 1 %.
     let member = Table::read(&work.join("out/pile_member/member_pile.csv"));
     let stages = Table::read(&work.join("out/pile_test/stages.csv"));
+    // Section 11: the clay's pushover, the run's choice of M, the finer
+    // mesh, and the closed form (sqrt(2) - 1) 11.94 c_u D L.
+    let clay_path = Table::read(&work.join("out/pile_clay/load_path.csv"));
+    let clay_at = |i: usize| clay_path.num(&clay_path.rows[i], "pile_head_applied [MN]");
+    let clay_end = clay_at(clay_path.rows.len() - 1);
+    let clay_solution = read_json(&work.join("out/pile_clay/solution.json"));
+    let clay_change = f(&clay_solution["extra"]["auto_harmonics"]["steps"][1]["change"]);
+    let fine = Table::read(&work.join("out/pile_clay_h02/load_path.csv"));
+    let clay_fine = fine.num(fine.rows.last().unwrap(), "pile_head_applied [MN]");
+    let clay_scene = read_json(&work.join("pile_clay.json"));
+    let c_u = f(&clay_scene["materials"]["soil"]["plasticity"]["c_u"]);
+    let clay_l = f(&clay_scene["mesh"]["parameters"]["L"]);
+    let clay_estimate = (2f64.sqrt() - 1.0) * 11.94 * c_u * (2.0 * 0.6) * clay_l;
+    let clay_plastic = read_json(&work.join("out/pile_clay/plastic.json"));
+    let clay_sections = clay_plastic["sections_deg"].as_array().unwrap().len() as f64;
+    let clay_solves: f64 = clay_path
+        .rows
+        .iter()
+        .map(|r| clay_path.num(r, "solves [-]"))
+        .sum();
     let along = |i: usize| stages.num(&stages.rows[i], "pile_head_along_load_end [m]");
     let (test_peak, test_reload) = (along(0), along(2));
     let test_residual = stages.num(&stages.rows[1], "pile_head_at_zero_load [m]");
@@ -585,6 +605,20 @@ fn quotes(work: &Path, mesh: &Value) -> Vec<Quote> {
             100.0 * (test_reload - test_peak).abs() / test_peak,
             1.0,
         ),
+        // 11. Soil that yields.
+        q("differ by 0.84 %", 100.0 * clay_change, 0.5),
+        q("0.848 MN at 0.01 D", clay_at(0), 0.05),
+        q("1.603 MN at 0.05 D", clay_at(4), 0.05),
+        q("1.685 MN at 0.1 D", clay_end, 0.05),
+        q("adding only 0.39 %", 100.0 * (clay_end / clay_at(8) - 1.0), 0.5),
+        q("hence H = 1.780 MN", clay_estimate, 0.0),
+        q("run's 1.685 MN", clay_end, 0.05),
+        q("is 5.4 % below", 100.0 * (1.0 - clay_end / clay_estimate), 0.5),
+        q("give 1.637 MN", clay_fine, 0.05),
+        q("MN, 2.8 % less", 100.0 * (1.0 - clay_fine / clay_end), 0.5),
+        q("(and 8 % below", 100.0 * (1.0 - clay_fine / clay_estimate), 0.5),
+        q("each of the 17 sections", clay_sections, 0.0),
+        q("each of the 330 solves", clay_solves, 0.3),
     ]
 }
 
@@ -636,7 +670,7 @@ fn tutorial_commands_files_and_numbers() {
     let names: Vec<&str> = listed.iter().map(|b| b.file.as_deref().unwrap()).collect();
     assert_eq!(
         names,
-        ["pile.geo", "pile.json", "pile_test.json"],
+        ["pile.geo", "pile.json", "pile_test.json", "pile_clay.json"],
         "the listings marked as files"
     );
     for block in &listed {

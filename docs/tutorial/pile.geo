@@ -15,12 +15,13 @@
 //   h       element size along the two joints [m]
 //   growth  increase of the element size per metre away from the joints [-]
 //   hmax    largest element size [m]
+//   L       pile length [m], 12 unless given
 If (!Exists(h)) h = 0.3; EndIf
 If (!Exists(growth)) growth = 0.25; EndIf
 If (!Exists(hmax)) hmax = 3.0; EndIf
 
 a = 0.6;    // pile radius
-L = 12;     // pile length (head at z = 0)
+If (!Exists(L)) L = 12; EndIf  // pile length (head at z = 0)
 R = 12;     // soil radius
 H = 24;     // soil depth
 

@@ -168,12 +168,20 @@ pub fn write_load_path(
         header.extend(["leg [-]", "stage", "cycle [-]", "level [-]"].map(String::from));
     }
     header.push("lambda [-]".to_string());
+    // The load on each face along its direction: with stages, and on a face
+    // a motion moves (its reaction).
+    let with_applied: Vec<bool> = first
+        .observed
+        .faces
+        .iter()
+        .map(|f| staged || f.applied.is_some())
+        .collect();
     for (k, f) in first.observed.faces.iter().enumerate() {
         for c in ["ux", "uy", "uz", "along_load"] {
             header.push(format!("{}_{c} [{length}]", f.on));
         }
         header.push(format!("{}_rotation [rad]", f.on));
-        if staged {
+        if with_applied[k] {
             let unit = applied_units.get(k).map_or("-", String::as_str);
             header.push(format!("{}_applied [{unit}]", f.on));
         }
@@ -198,11 +206,11 @@ pub fn write_load_path(
         .iter()
         .map(|s| {
             let mut v = vec![s.lambda];
-            for f in &s.observed.faces {
+            for (f, &applied) in s.observed.faces.iter().zip(&with_applied) {
                 v.extend(f.mean);
                 v.push(f.along);
                 v.push(f.rotation);
-                if staged {
+                if applied {
                     v.push(f.applied.unwrap_or(0.0));
                 }
             }

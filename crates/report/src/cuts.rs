@@ -258,11 +258,13 @@ pub fn profile_with(
 }
 
 /// Every stress of every cut of `scene` at its angles, as one vector (the
-/// measure of the automatic choice of harmonics: same mesh, same samples).
+/// measure of the automatic choice of harmonics: same mesh, same samples);
+/// in a plastic body the returned stress of `body`.
 pub fn profile_values(
     scene: &axijoint_solver::scene::Scene,
     mesh: &Mesh,
     u: &axijoint_solver::solution::Displacements,
+    body: Option<&axijoint_solver::iteration::BodyField>,
 ) -> Vec<f64> {
     let materials: Vec<_> = mesh
         .bodies
@@ -280,10 +282,21 @@ pub fn profile_values(
         initial: None,
     };
     let locator = Locator::new(mesh);
+    let file = body.map(|b| axijoint_solver::results::PlasticFieldFile::new(mesh, b, None));
+    let plastic = file.as_ref().and_then(|f| PlasticStress::new(mesh, f).ok());
     scene
         .cuts
         .iter()
-        .flat_map(|c| profile(&field, &locator, &[c.from, c.to], c.spacing, &c.theta_deg))
+        .flat_map(|c| {
+            profile_with(
+                &field,
+                &locator,
+                &[c.from, c.to],
+                c.spacing,
+                &c.theta_deg,
+                plastic.as_ref(),
+            )
+        })
         .flat_map(|r| r.stress)
         .collect()
 }

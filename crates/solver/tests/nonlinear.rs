@@ -632,10 +632,12 @@ fn auto_harmonics_reach_the_uplift_reference_and_stop_at_the_loads_for_linear_sc
     sc.harmonics = Harmonics::Auto;
     sc.sections = None;
     sc.solver.method = axijoint_solver::scene::SolverMethod::Anderson;
-    let measure = |model: &axijoint_solver::linear::Model, u: &Displacements| -> Vec<f64> {
-        let w = face_displacement(&model.mesh, "block_top", u).expect("face")[2];
-        vec![w, mean_tilt(&model.mesh, "block_top", u) * a]
-    };
+    let measure =
+        |model: &axijoint_solver::linear::Model, o: &axijoint_solver::iteration::Outcome| -> Vec<f64> {
+            let u = &o.displacements;
+            let w = face_displacement(&model.mesh, "block_top", u).expect("face")[2];
+            vec![w, mean_tilt(&model.mesh, "block_top", u) * a]
+        };
     let (chosen, run) = solve_scene_auto(&sc, None, 2e-3, 64, measure, |_| {}).expect("converges");
     let mesh = &run.problem.model.mesh;
     let w = -face_displacement(mesh, "block_top", &run.displacements).expect("face")[2];

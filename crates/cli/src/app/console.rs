@@ -3,7 +3,7 @@
 
 use axijoint_solver::iteration::IterationRecord;
 use axijoint_solver::results::SolutionHeader;
-use axijoint_solver::scene::{Scene, SpringSource};
+use axijoint_solver::scene::{Load, Scene, SpringSource};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::path::Path;
 use std::time::Duration;
@@ -91,14 +91,19 @@ pub fn print_summary(path: &Path, scene: &Scene, header: &SolutionHeader, out: &
     };
     if let Some(h) = &record.history {
         if let Some(last) = h.last() {
+            let states = if scene.joints.is_empty() {
+                String::new()
+            } else {
+                format!(
+                    "; open {}, slip {}, stick {} point-sections",
+                    last.open, last.slip, last.stick
+                )
+            };
             crate::say!(
-                "  iteration: {} iterations, residual ratio {:.3e} (epsilon {:.1e}); open {}, slip {}, stick {} point-sections",
+                "  iteration: {} iterations, residual ratio {:.3e} (epsilon {:.1e}){states}",
                 h.len(),
                 last.ratio,
                 scene.solver.epsilon,
-                last.open,
-                last.slip,
-                last.stick
             );
         }
     }
@@ -134,13 +139,18 @@ pub fn print_summary(path: &Path, scene: &Scene, header: &SolutionHeader, out: &
     if let Some(Some(c)) = &record.harmonic_check {
         match (c.face_change, c.area_change) {
             (Some(f), Some(a)) => crate::say!(
-                "  harmonics: 0..={} against 0..={}: {} changes {f:.2e}, joint open/slip area {a:.2e} (relative)",
+                "  harmonics: 0..={} against 0..={}: {} changes {f:.2e}{} (relative)",
                 c.m,
                 c.m_half,
-                if c.note.is_none() {
-                    "loaded-face displacement"
+                match (c.note.is_none(), scene.loads.iter().any(|l| matches!(l, Load::Motion(_)))) {
+                    (true, false) => "loaded-face displacement",
+                    (true, true) => "loaded-face displacement or moved-face reaction",
+                    _ => "the displacement field",
+                },
+                if scene.joints.is_empty() {
+                    String::new()
                 } else {
-                    "the displacement field"
+                    format!(", joint open/slip area {a:.2e}")
                 }
             ),
             _ => crate::say!(
@@ -159,7 +169,7 @@ pub fn print_summary(path: &Path, scene: &Scene, header: &SolutionHeader, out: &
             })
             .collect();
         crate::say!(
-            "  harmonics chosen automatically: M = {} (profile change < {} ; steps {})",
+            "  harmonics chosen automatically: M = {} (change of the cut profiles, loaded faces and moved-face reactions < {}; steps {})",
             a.chosen,
             a.tolerance,
             steps.join(", ")

@@ -263,7 +263,8 @@ pub const LISTED: usize = 4;
 /// The console lines of the estimated errors: per cut its profiles in
 /// order of angle (the [`LISTED`] - 1 worst when it has more, with how
 /// many are left out), the energy norm; then a warning per profile above
-/// [`ESTIMATE_WARNING`] (one per cut when more than [`LISTED`] are).
+/// [`ESTIMATE_WARNING`] (one per cut when more than [`LISTED`] are; none
+/// with plastic bodies, where the estimate is not the mesh's error).
 pub fn estimate_lines(summary: &Summary) -> Vec<String> {
     let angle = |t: &str| t.replace('m', "-").parse::<f64>().unwrap_or(f64::NAN);
     let mut parts = Vec::new();
@@ -331,6 +332,10 @@ pub fn estimate_lines(summary: &Summary) -> Vec<String> {
             )
         },
     );
+    if plastic {
+        // Not the mesh's error where the soil yields: no advice to refine.
+        warnings.clear();
+    }
     let mut lines = vec![format!(
         "  estimated error: {}{energy}",
         if parts.is_empty() {

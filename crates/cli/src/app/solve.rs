@@ -65,7 +65,7 @@ pub fn solve_to_then(scene: &Scene, out: &Path, quiet: bool, iterating: &dyn Fn(
             Some(&msh),
             scene.solver.harmonics_tolerance,
             scene.solver.max_harmonics,
-            |model, u| profile_values(scene, &model.mesh, u),
+            |model, o| profile_values(scene, &model.mesh, &o.displacements, o.body.as_ref()),
             progress,
         )
     } else {

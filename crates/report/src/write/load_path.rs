@@ -14,13 +14,18 @@ fn applied_units(ctx: &Ctx, path: &LoadPath) -> Vec<String> {
     let Some(first) = path.steps.first() else {
         return Vec::new();
     };
-    let loads: Vec<Load> = ctx.scene.staged_faces();
+    let loads: Vec<Load> = if ctx.scene.stages.is_empty() {
+        ctx.scene.loads.clone()
+    } else {
+        ctx.scene.staged_faces()
+    };
     first
         .observed
         .faces
         .iter()
         .map(|f| match loads.iter().find(|l| l.on() == f.on) {
             Some(Load::Resultant(r)) if r.force == [0.0; 3] => format!("{force} {length}"),
+            Some(Load::Motion(m)) if m.displacement == [0.0; 3] => format!("{force} {length}"),
             _ => force.clone(),
         })
         .collect()
@@ -43,12 +48,25 @@ pub(super) fn write(ctx: Ctx, path: &LoadPath) -> Result<Vec<String>, ReportErro
     if outputs.plots && !path.steps.is_empty() {
         // Pushover curves: lambda against each loaded face's displacement
         // along its load, from the unloaded state.
+        // Every face moved by a motion (no stages): its reaction instead.
         let n_faces = path.steps[0].observed.faces.len();
+        let reaction =
+            !staged && n_faces > 0 && path.steps[0].observed.faces.iter().all(|f| f.applied.is_some());
         let series: Vec<plots::Series> = (0..n_faces)
             .map(|k| plots::Series {
                 label: format!("{}, along the load", path.steps[0].observed.faces[k].on),
                 points: std::iter::once((0.0, 0.0))
-                    .chain(path.steps.iter().map(|s| (s.observed.faces[k].along, s.lambda)))
+                    .chain(path.steps.iter().map(|s| {
+                        let f = &s.observed.faces[k];
+                        (
+                            f.along,
+                            if reaction {
+                                f.applied.unwrap_or(0.0)
+                            } else {
+                                s.lambda
+                            },
+                        )
+                    }))
                     .collect(),
                 color: k,
                 dash: 0,
@@ -59,14 +77,23 @@ pub(super) fn write(ctx: Ctx, path: &LoadPath) -> Result<Vec<String>, ReportErro
                 "Load path: limit load factor {:.4} (failed at {:.4})",
                 l.factor, l.failed_at
             ),
+            None if reaction => "Load path: reaction against the prescribed displacement".to_string(),
             None => "Load path: load factor against displacement".to_string(),
+        };
+        let y_label = if reaction {
+            format!(
+                "reaction along the motion ({})",
+                units.first().map_or("-", String::as_str)
+            )
+        } else {
+            "load factor lambda (-)".to_string()
         };
         plots::plot_profile(
             &dir.join("load_path.svg"),
             ctx.png("load_path").as_deref(),
             &title,
             &format!("displacement along the load ({length})"),
-            "load factor lambda (-)",
+            &y_label,
             &series,
         )?;
         files.extend(ctx.plot_files("load_path"));

@@ -233,8 +233,10 @@ pub struct HarmonicCheck {
     pub m: u32,
     /// The compared M/2.
     pub m_half: u32,
-    /// Largest change of a loaded face's mean displacement, relative to
-    /// the largest such displacement (none when the M/2 run failed).
+    /// Largest change of a force-loaded face's mean displacement,
+    /// relative to the largest such displacement, and of the reaction on a
+    /// face a motion moves, relative to the largest reaction force (moment)
+    /// (none when the M/2 run failed).
     pub face_change: Option<f64>,
     /// Change of the open and of the slipping joint area, relative to the
     /// joints' total area (the larger of the two).

@@ -1,33 +1,35 @@
 //! `"harmonics": "auto"`: M grows 4, 8, 16, ... until the measured results
 //! settle, the factors of lower harmonics kept.
 
+use super::check::{face_means, motion_reactions};
 use super::elastic::{elastic, Elastic};
 use super::factors::{factorize_and_solve, plan_factors};
 use super::initial::initial_phase;
-use super::measures::{reactions, scaled};
+use super::measures::{reactions, scaled, with_released};
 use super::nonlinear::iterate;
 use super::sections::scene_sections;
 use super::start::Start;
 use super::{solve_scene, Run, Stopped};
-use crate::iteration::IterationRecord;
+use crate::iteration::{IterationRecord, Outcome};
 use crate::linear::Model;
 use crate::results::{AutoStep, LoadPath};
 use crate::scene::Scene;
-use crate::solution::Displacements;
 use std::path::Path;
 use std::sync::Arc;
 use std::time::Instant;
 
 /// Chooses M automatically: a linear scene solves the harmonics its loads
-/// contain; with nonlinear joints M grows 4, 8, 16, ... up to `m_max` until
-/// `measure` (e.g. the cut profiles) changes by less than `tolerance`
-/// relative to its largest value. Factors of lower harmonics are kept.
+/// contain; with nonlinear joints or plastic bodies M grows 4, 8, 16, ... up
+/// to `m_max` until `measure` (e.g. the cut profiles), the mean displacement
+/// of each face loaded by a force and the reaction on each face a motion
+/// moves all change by less than `tolerance` relative to their largest
+/// value. Factors of lower harmonics are kept.
 pub fn solve_scene_auto(
     scene: &Scene,
     keep_msh: Option<&Path>,
     tolerance: f64,
     m_max: u32,
-    measure: impl Fn(&Model, &Displacements) -> Vec<f64>,
+    measure: impl Fn(&Model, &Outcome) -> Vec<f64>,
     mut progress: impl FnMut(&IterationRecord),
 ) -> Result<(Scene, Run), Box<Stopped>> {
     let seismic = scene.seismic_coefficient != 0.0 && scene.materials.values().any(|m| m.unit_weight > 0.0);
@@ -54,7 +56,7 @@ pub fn solve_scene_auto(
     let Elastic { mut problem, load } = elastic(&sc, keep_msh, true)?;
     let (mut loads, mut u, mut timings) = (load.loads, load.u, load.timings);
     let mut steps: Vec<AutoStep> = Vec::new();
-    let mut previous: Option<Vec<f64>> = None;
+    let mut previous: Option<Vec<Vec<f64>>> = None;
     let t = Instant::now();
     let initial = if sc.has_initial_phase() {
         Some(initial_phase(&sc, &problem, &loads, &mut progress)?)
@@ -70,17 +72,33 @@ pub fn solve_scene_auto(
             initial: initial.as_ref(),
         };
         let (outcome, load_path) = iterate(&sc, start, m, None, &sections, None, &mut progress)?;
-        let values = measure(&problem.model, &outcome.displacements);
+        // The measure, the force-loaded faces' mean displacements and the
+        // moved faces' reaction forces and moments, each against its own
+        // largest value.
+        let reactions_now = motion_reactions(&sc, &problem.model, &loads, &outcome);
+        let values: Vec<Vec<f64>> = vec![
+            measure(&problem.model, &outcome),
+            face_means(&sc, &problem.model, &loads, &outcome).concat(),
+            reactions_now.iter().flat_map(|r| r[..3].to_vec()).collect(),
+            reactions_now.iter().flat_map(|r| r[3..].to_vec()).collect(),
+        ];
         let change = previous.as_ref().map(|p| {
-            let scale = values
-                .iter()
-                .fold(0.0f64, |a, v| a.max(v.abs()))
-                .max(f64::MIN_POSITIVE);
             values
                 .iter()
                 .zip(p)
-                .fold(0.0f64, |a, (x, y)| a.max((x - y).abs()))
-                / scale
+                .map(|(now, before)| {
+                    let scale = now.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+                    let diff = now
+                        .iter()
+                        .zip(before)
+                        .fold(0.0f64, |a, (x, y)| a.max((x - y).abs()));
+                    if scale > 0.0 {
+                        diff / scale
+                    } else {
+                        0.0
+                    }
+                })
+                .fold(0.0f64, f64::max)
         });
         steps.push(AutoStep {
             m,
@@ -96,7 +114,7 @@ pub fn solve_scene_auto(
             let reactions = reactions(
                 &sc,
                 &problem.model,
-                &scaled(&loads, lambda),
+                &with_released(scaled(&loads, lambda).into_owned(), &outcome.released),
                 &outcome.displacements,
             );
             let mut run = Run::new(

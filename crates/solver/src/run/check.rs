@@ -1,13 +1,13 @@
 //! The M/2 check: the key results of a nonlinear run against the same run
 //! with harmonics 0..=M/2, the user's check that M is enough.
 
-use super::measures::{face_displacement, max_displacement, padded};
+use super::measures::{face_displacement, max_displacement, padded, reactions, with_released};
 use crate::error::SolverError;
 use crate::iteration::Outcome;
 use crate::linear::Model;
 use crate::loads::HarmonicLoads;
 use crate::results::{HarmonicCheck, JointFieldFile, LoadPath};
-use crate::scene::Scene;
+use crate::scene::{Load, Scene};
 
 /// Compares the key results of two solutions of the same model (`loads`:
 /// the run's, every harmonic).
@@ -47,7 +47,19 @@ pub(super) fn harmonic_check(
     );
     let n = mesh.nodes.len();
     let u_max = max_displacement(n, &uf);
-    let (face_change, note) = if measured_by_faces(scale, u_max) {
+    let motion_change = reaction_change(
+        &motion_reactions(scene, model, loads, full.0),
+        &motion_reactions(scene, model, loads, half.0),
+    );
+    let (face_change, note) = if let Some(change) = motion_change {
+        // A motion's face moves as prescribed: its reaction measures.
+        let faces = if measured_by_faces(scale, u_max) {
+            diff / scale
+        } else {
+            0.0
+        };
+        (change.max(faces), None)
+    } else if measured_by_faces(scale, u_max) {
         (diff / scale, None)
     } else {
         let delta = uf.minus(&uh);
@@ -70,14 +82,73 @@ pub(super) fn harmonic_check(
     }
 }
 
-/// The mean displacement of each loaded face (harmonics 0 and 1 of `o`).
-fn face_means(scene: &Scene, model: &Model, loads: &[HarmonicLoads], o: &Outcome) -> Vec<[f64; 3]> {
+/// The mean displacement of each face loaded by a force (harmonics 0 and
+/// 1 of `o`; a motion's face moves as prescribed).
+pub(super) fn face_means(
+    scene: &Scene,
+    model: &Model,
+    loads: &[HarmonicLoads],
+    o: &Outcome,
+) -> Vec<[f64; 3]> {
     let d = padded(&o.displacements, loads);
     scene
         .loads
         .iter()
+        .filter(|l| !matches!(l, Load::Motion(_)))
         .filter_map(|l| face_displacement(&model.mesh, l.on(), &d))
         .collect()
+}
+
+/// The reaction `(F, M)` on each face a motion moves, from harmonics 0
+/// and 1 of `o` (the others have no resultant).
+pub(super) fn motion_reactions(
+    scene: &Scene,
+    model: &Model,
+    loads: &[HarmonicLoads],
+    o: &Outcome,
+) -> Vec<[f64; 6]> {
+    let moved: Vec<&str> = scene
+        .loads
+        .iter()
+        .filter(|l| matches!(l, Load::Motion(_)))
+        .map(Load::on)
+        .collect();
+    if moved.is_empty() {
+        return Vec::new();
+    }
+    let low: Vec<HarmonicLoads> = loads.iter().filter(|h| h.m <= 1).cloned().collect();
+    let d = padded(&o.displacements, &low);
+    reactions(scene, model, &with_released(low, &o.released), &d)
+        .into_iter()
+        .filter(|r| moved.contains(&r.on.as_str()))
+        .map(|r| [r.force, r.moment].concat().try_into().expect("six values"))
+        .collect()
+}
+
+/// The largest change from `a` to `b` of the reaction forces over the
+/// largest force, and of the moments over the largest moment; `None`
+/// without motions.
+fn reaction_change(a: &[[f64; 6]], b: &[[f64; 6]]) -> Option<f64> {
+    if a.is_empty() {
+        return None;
+    }
+    let part = |range: std::ops::Range<usize>| {
+        let scale = a
+            .iter()
+            .flat_map(|r| &r[range.clone()])
+            .fold(0.0f64, |m, v| m.max(v.abs()));
+        let diff = a
+            .iter()
+            .zip(b)
+            .flat_map(|(x, y)| range.clone().map(move |k| (x[k] - y[k]).abs()))
+            .fold(0.0f64, f64::max);
+        if scale > 0.0 {
+            diff / scale
+        } else {
+            0.0
+        }
+    };
+    Some(part(0..3).max(part(3..6)))
 }
 
 /// Whether faces moving `scale` in a field whose largest displacement is

@@ -8,14 +8,16 @@ use super::initial::InitialState;
 use super::measures::{face_motion, joint_areas, member_bodies, padded, reactions, scaled, with_released};
 use super::model::{iteration_settings, joint_laws};
 use super::sections::scene_sections;
+use super::stages::along;
 use super::start::Start;
 use super::{Run, Stopped};
 use crate::error::SolverError;
 use crate::fourier::Sections;
 use crate::iteration::{IterationRecord, JointField, Outcome, StepBodies};
 use crate::loads::HarmonicLoads;
+use crate::loads::Resultants;
 use crate::results::{JointFieldFile, LoadPath, StepMeasure};
-use crate::scene::Scene;
+use crate::scene::{Load, Scene};
 use crate::solution::Displacements;
 use std::sync::Arc;
 use std::time::Instant;
@@ -60,14 +62,45 @@ pub(super) fn iterate(
     let mesh = &model.mesh;
     let springs: Vec<_> = model.joints.iter().map(|j| j.springs).collect();
     let member_bodies = member_bodies(scene, mesh);
+    let moved = scene.loads.iter().any(|l| matches!(l, Load::Motion(_)));
     let observe = |lambda: f64, u: &Displacements, field: &JointField, bodies: &StepBodies| {
         let d = padded(u, all);
         let file = JointFieldFile::new(mesh, &springs, field);
+        // A moved face takes its reaction along its motion.
+        let held = if moved {
+            reactions(
+                scene,
+                model,
+                &with_released(scaled(all, lambda).into_owned(), &bodies.released),
+                &d,
+            )
+        } else {
+            Vec::new()
+        };
         StepMeasure {
             faces: scene
                 .loads
                 .iter()
-                .filter_map(|l| face_motion(mesh, l, &d))
+                .filter_map(|l| {
+                    face_motion(mesh, l, &d).map(|mut f| {
+                        if let Load::Motion(mo) = l {
+                            f.applied = held.iter().find(|r| r.on == f.on).map(|r| {
+                                let motion = Resultants {
+                                    force: mo.displacement,
+                                    moment: mo.rotation,
+                                };
+                                along(
+                                    &motion,
+                                    &Resultants {
+                                        force: r.force,
+                                        moment: r.moment,
+                                    },
+                                )
+                            });
+                        }
+                        f
+                    })
+                })
                 .collect(),
             joints: joint_areas(mesh, &file),
             members: member_bodies

@@ -48,7 +48,7 @@ fn resultant(scene: &Scene, model: &Model, loads: Vec<Load>, m_max: u32) -> Resu
 /// The load of `face` along the direction of `first` (its first load):
 /// the force along the first's force, or without one the moment along the
 /// first's moment (a torque, or the turn of a tilting `motion`).
-fn along(first: &Resultants, r: &Resultants) -> f64 {
+pub(super) fn along(first: &Resultants, r: &Resultants) -> f64 {
     let dot = |a: &[f64; 3], b: &[f64; 3]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
     let norm = dot(&first.force, &first.force).sqrt();
     if norm > 0.0 {
