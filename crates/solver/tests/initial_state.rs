@@ -8,6 +8,7 @@
 //! | gravity column | `"gravity"` settles the column by `gamma L^2 / (2 M)` (M the oedometer modulus) | 1e-6 |
 //! | loads from the initial state | a top pressure q on a geostatic column moves the top by `q L / M`, whatever the weight | 1e-6 |
 //! | pile shaft capacity | the limit load factor of a rigid pile with a free tip is `2 pi a (C L + K0 gamma tan(phi) L^2 / 2)` | 2 % |
+//! | drained shaft capacity | under water, the same with the buoyant `gamma - gamma_w`; a strong Mohr-Coulomb soil gives the joint-only limit | 2 %; 0.5 % |
 //! | no initial phase | the same pile without it has no normal stress for friction: the limit is its cohesion `2 pi a C L`, less where the shaft opens near the free tip | 5 % below |
 //!
 //! Column: `geo/cylinder.geo`, a = 0.5, L = 5, Q9, the side on rollers
@@ -122,11 +123,14 @@ fn loads_start_from_the_initial_state() {
 /// `geo/pile_soil.geo` (a = 0.5, L = 10, soil R = 10, H = 20) with a rigid
 /// pile (E = 3e4 against 50), weightless, in geostatic soil; the shaft a
 /// Mohr-Coulomb joint, the tip a void (a joint without stiffness or
-/// initial traction).
-fn pile(initial_phase: bool, c: f64, phi: f64, k0: f64, gamma: f64, force: f64) -> Scene {
+/// initial traction). `more`: the soil's further keys (e.g. a
+/// `plasticity`) and the scene's (e.g. `water`), each with its leading
+/// comma.
+fn pile(initial_phase: bool, c: f64, phi: f64, k0: f64, gamma: f64, force: f64, more: (&str, &str)) -> Scene {
+    let (soil_more, scene_more) = more;
     let soil_initial = if initial_phase {
         format!(
-            r#", "unit_weight": {gamma}, "initial_stress": {{"type": "geostatic", "surface_z": 0, "K0": {k0}}}"#
+            r#", "unit_weight": {gamma}, "initial_stress": {{"type": "geostatic", "surface_z": 0, "K0": {k0}}}{soil_more}"#
         )
     } else {
         String::new()
@@ -147,7 +151,7 @@ fn pile(initial_phase: bool, c: f64, phi: f64, k0: f64, gamma: f64, force: f64) 
       }},
       "supports": [{{"on": "soil_outer", "fix": "all"}}, {{"on": "soil_bottom", "fix": "all"}}],
       "loads": [{{"type": "resultant", "on": "pile_head", "force": [0, 0, -{force}]}}],
-      "harmonics": 0
+      "harmonics": 0{scene_more}
     }}"#
     );
     Scene::from_str(&text, geo("pile.json")).unwrap_or_else(|e| panic!("{e}"))
@@ -158,8 +162,8 @@ fn shaft_capacity_of_a_rigid_pile_is_the_closed_form() {
     let (a, l, c, phi, k0, gamma) = (0.5, 10.0, 0.02, 30.0f64, 0.5, 0.018);
     let capacity = 2.0 * PI * a * (c * l + k0 * gamma * phi.to_radians().tan() * l * l / 2.0);
     let force = 2.0;
-    let run =
-        solve_scene(&pile(true, c, phi, k0, gamma, force), None, |_| {}).unwrap_or_else(|e| panic!("{e}"));
+    let run = solve_scene(&pile(true, c, phi, k0, gamma, force, ("", "")), None, |_| {})
+        .unwrap_or_else(|e| panic!("{e}"));
     let path = run.load_path.as_ref().expect("a stepped run");
     let limit = path.limit.as_ref().expect("a limit load");
     let reached = limit.factor * force;
@@ -173,13 +177,49 @@ fn shaft_capacity_of_a_rigid_pile_is_the_closed_form() {
     assert!((reached / capacity - 1.0).abs() < 0.02, "{reached} vs {capacity}");
 }
 
+/// Drained: under water at the ground surface (gamma_w = 0.01) the shaft's
+/// friction comes from the buoyant weight, `2 pi a (C L + K0 (gamma -
+/// gamma_w) tan(phi) L^2 / 2)`; a Mohr-Coulomb soil strong enough not to
+/// yield gives the joint-only limit.
+#[test]
+fn drained_shaft_capacity_uses_the_buoyant_weight_and_strong_soil_does_not_change_it() {
+    let (a, l, c, phi, k0, gamma, gamma_w) = (0.5, 10.0, 0.02, 30.0f64, 0.5, 0.018, 0.01);
+    let capacity = 2.0 * PI * a * (c * l + k0 * (gamma - gamma_w) * phi.to_radians().tan() * l * l / 2.0);
+    let force = 2.0;
+    let water = format!(r#", "water": {{"surface_z": 0, "unit_weight": {gamma_w}}}"#);
+    let mut limits = Vec::new();
+    for plasticity in [
+        "",
+        r#", "plasticity": {"type": "mohr_coulomb", "cohesion": 1.0, "friction_deg": 30}"#,
+    ] {
+        let run = solve_scene(
+            &pile(true, c, phi, k0, gamma, force, (plasticity, &water)),
+            None,
+            |_| {},
+        )
+        .unwrap_or_else(|e| panic!("{e}"));
+        let path = run.load_path.as_ref().expect("a stepped run");
+        let limit = path.limit.as_ref().expect("a limit load");
+        let reached = limit.factor * force;
+        println!(
+            "soil{plasticity}: limit {reached:.5} MN (factor {:.5}), closed form {capacity:.5} MN, {} steps",
+            limit.factor,
+            path.steps.len()
+        );
+        assert!(limit.beyond_capacity, "{}", limit.reason);
+        assert!((reached / capacity - 1.0).abs() < 0.02, "{reached} vs {capacity}");
+        limits.push(reached);
+    }
+    assert!((limits[1] / limits[0] - 1.0).abs() < 0.005, "{limits:?}");
+}
+
 #[test]
 fn without_an_initial_phase_the_shaft_carries_its_cohesion() {
     let (a, l, c) = (0.5, 10.0, 0.02);
     let capacity = 2.0 * PI * a * c * l;
     let force = 1.0;
-    let run =
-        solve_scene(&pile(false, c, 30.0, 0.5, 0.018, force), None, |_| {}).unwrap_or_else(|e| panic!("{e}"));
+    let run = solve_scene(&pile(false, c, 30.0, 0.5, 0.018, force, ("", "")), None, |_| {})
+        .unwrap_or_else(|e| panic!("{e}"));
     let limit = run
         .load_path
         .as_ref()

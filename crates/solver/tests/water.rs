@@ -1,5 +1,5 @@
 //! Ground water and effective stress (issue 26, item 3), against closed
-//! forms.
+//! forms (the drained pile shaft is in initial_state.rs).
 //!
 //! | test | claim | tolerance |
 //! |---|---|---|
@@ -8,7 +8,6 @@
 //! | gravity loading to the active state | an oedometer column of Mohr-Coulomb soil (c = 0, phi = 30, nu = 0.1: `nu / (1 - nu) < K_a`) loaded by its buoyant weight ends at `sigma'_h = K_a sigma'_v`, `sigma'_v` the buoyant overburden, at every Gauss point | 1e-10 of the largest stress |
 //! | an elastic contrast | with nu = 0.3 (`nu / (1 - nu) > K_a`) no point yields and `sigma'_h = nu / (1 - nu) sigma'_v` | 1e-10 |
 //! | mistakes | a water unit weight <= 0, a geostatic soil lighter than water, a missing or unknown key: refused naming the key | exact |
-//! | drained pull-out | a rigid pile pushed down a Mohr-Coulomb shaft joint in geostatic soil under water: `2 pi a (C L + K0 gamma' tan(phi) L^2 / 2)` with the buoyant `gamma' = gamma - gamma_w`; a strong Mohr-Coulomb soil gives the joint-only limit | 2 %; 0.5 % |
 //!
 //! Column: `geo/cylinder.geo`, a = 0.5, L = 5, Q9, split at the water
 //! table z = 2.5, the side on rollers (`u_r = 0`), the base on rollers.
@@ -122,57 +121,6 @@ fn gravity_loading_brings_mohr_coulomb_soil_to_the_active_state() {
     println!("nu = 0.3: worst error {worst:.3e}");
     assert!(worst < 1e-10, "{worst}");
     assert!(init.body_plastic.iter().all(|e| *e == [0.0; 6]));
-}
-
-/// `geo/pile_soil.geo` (a = 0.5, L = 10, soil R = 10, H = 20) with a rigid
-/// weightless pile in geostatic soil under water at the ground surface;
-/// the shaft a Mohr-Coulomb joint, the tip a void. `soil_plasticity`: the
-/// soil's `plasticity` entry, if any.
-fn pile(c: f64, phi: f64, k0: f64, gamma: f64, force: f64, soil_plasticity: &str) -> Scene {
-    let text = format!(
-        r#"{{
-      "mesh": {{"file": "pile_soil.geo", "parameters": {{"size": 0.5, "coarsen": 4}}}},
-      "materials": {{"pile": {{"E": 3.0e4, "nu": 0.2}},
-        "soil": {{"E": 50, "nu": 0.3, "unit_weight": {gamma}, "initial_stress": {{"type": "geostatic", "surface_z": 0, "K0": {k0}}}{soil_plasticity}}}}},
-      "water": {{"surface_z": 0, "unit_weight": {GAMMA_W}}},
-      "joints": {{
-        "pile_side": {{"bottom": "pile", "top": "soil", "k_xi": 100, "k_eta": 100, "k_theta": 100,
-          "law": {{"type": "mohr_coulomb", "cohesion": {c}, "friction_deg": {phi}, "tensile_strength": 0}}}},
-        "pile_base": {{"bottom": "pile", "top": "soil", "k_xi": 0, "k_eta": 0, "k_theta": 0, "law": {{"type": "linear"}}, "initial_traction": [0, 0, 0]}}
-      }},
-      "supports": [{{"on": "soil_outer", "fix": "all"}}, {{"on": "soil_bottom", "fix": "all"}}],
-      "loads": [{{"type": "resultant", "on": "pile_head", "force": [0, 0, -{force}]}}],
-      "harmonics": 0
-    }}"#
-    );
-    Scene::from_str(&text, geo("pile.json")).unwrap_or_else(|e| panic!("{e}"))
-}
-
-#[test]
-fn drained_shaft_capacity_uses_the_buoyant_weight_and_strong_soil_does_not_change_it() {
-    let (a, l, c, phi, k0, gamma) = (0.5, 10.0, 0.02, 30.0f64, 0.5, 0.018);
-    let capacity = 2.0 * PI * a * (c * l + k0 * (gamma - GAMMA_W) * phi.to_radians().tan() * l * l / 2.0);
-    let force = 2.0;
-    let mut limits = Vec::new();
-    for plasticity in [
-        "",
-        r#", "plasticity": {"type": "mohr_coulomb", "cohesion": 1.0, "friction_deg": 30}"#,
-    ] {
-        let run = solve_scene(&pile(c, phi, k0, gamma, force, plasticity), None, |_| {})
-            .unwrap_or_else(|e| panic!("{e}"));
-        let path = run.load_path.as_ref().expect("a stepped run");
-        let limit = path.limit.as_ref().expect("a limit load");
-        let reached = limit.factor * force;
-        println!(
-            "soil{plasticity}: limit {reached:.5} MN (factor {:.5}), closed form {capacity:.5} MN, {} steps",
-            limit.factor,
-            path.steps.len()
-        );
-        assert!(limit.beyond_capacity, "{}", limit.reason);
-        assert!((reached / capacity - 1.0).abs() < 0.02, "{reached} vs {capacity}");
-        limits.push(reached);
-    }
-    assert!((limits[1] / limits[0] - 1.0).abs() < 0.005, "{limits:?}");
 }
 
 #[test]
