@@ -34,6 +34,7 @@ mod load;
 mod locate;
 mod motion;
 mod settings;
+mod soil;
 mod stage;
 
 pub use error::{did_you_mean, nearest, NameKind, SceneError};
@@ -43,9 +44,10 @@ pub use joint::{
 };
 pub use load::{Family, Linear, Load, MotionLoad, PointLoad, ResultantLoad, RingLoad, TractionLoad};
 pub use settings::{
-    Adapt, Cut, Fix, InitialStress, Loading, Material, MeshSource, Outputs, Plasticity, Sections,
-    SolverMethod, SolverSettings, StageOutputs, Support, Units, VtuSections, Water,
+    Adapt, Cut, Fix, Loading, Material, MeshSource, Outputs, Sections, SolverMethod, SolverSettings,
+    StageOutputs, Support, Units, VtuSections,
 };
+pub use soil::{InitialStress, Plasticity, Water};
 pub use stage::{stage_label, Cyclic, Leg, Stage, MAX_STAGES};
 
 use axijoint_mesh::JointSpec;
