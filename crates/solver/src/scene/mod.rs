@@ -155,7 +155,7 @@ pub struct Scene {
     pub stages: Vec<Stage>,
     /// Horizontal pseudo-static (seismic) coefficient k_h: a body force
     /// `k_h gamma` in +x on every material with a unit weight (harmonic 1).
-    #[serde(default, skip_serializing_if = "settings::is_zero")]
+    #[serde(default, skip_serializing_if = "soil::is_zero")]
     pub seismic_coefficient: f64,
     /// Ground water at rest (drained analysis); none: dry.
     #[serde(default, skip_serializing_if = "Option::is_none")]

@@ -1,7 +1,7 @@
 //! The plain parts of a scene: units, mesh source, materials, supports,
 //! sections, solver settings, cuts and outputs.
 
-use super::soil::{InitialStress, Plasticity};
+use super::soil::{is_zero, InitialStress, Plasticity};
 use crate::material::Elastic;
 use serde::de::{self, SeqAccess, Visitor};
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
@@ -129,10 +129,6 @@ pub struct Material {
     /// The yield criterion of a perfectly plastic material; none: elastic.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub plasticity: Option<Plasticity>,
-}
-
-pub(crate) fn is_zero(v: &f64) -> bool {
-    *v == 0.0
 }
 
 impl Material {

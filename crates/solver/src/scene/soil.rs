@@ -1,7 +1,6 @@
 //! The ground of a scene: the yield criterion of a plastic material, the
 //! stress a material starts from, and the ground water.
 
-use super::settings::is_zero;
 use serde::{Deserialize, Serialize};
 
 /// The yield criterion of a perfectly plastic material
@@ -211,4 +210,9 @@ impl InitialStress {
     pub fn gives_traction(&self) -> bool {
         !matches!(self, InitialStress::Gravity)
     }
+}
+
+/// Whether a number is 0 (serde: keys left out at their default).
+pub(crate) fn is_zero(v: &f64) -> bool {
+    *v == 0.0
 }
