@@ -20,11 +20,17 @@
 //!   any interface between bodies) shows. The view's time value is theta in
 //!   degrees.
 //!
+//! With the plastic bodies' field ([`write_gmsh_view_with`]), a cell of a
+//! plastic body shows at its nodes the stress recovered from `plastic.json`
+//! ([`PlasticStress::at`], the section nearest the view's angle), as the
+//! cuts and the `.vtu` do.
+//!
 //! Written under a temporary name and renamed into place; a non-finite value
 //! fails with [`ReportError::NotFinite`] and leaves no file.
 
 use crate::error::check_finite;
 use crate::field::{Field, STRESS_NAMES};
+use crate::recovery::PlasticStress;
 use crate::ReportError;
 use axijoint_mesh::msh::element_type;
 use axijoint_mesh::{atomic, CellKind};
@@ -45,6 +51,17 @@ pub fn view_name(quantity: &str, theta_deg: f64) -> String {
 /// angle of `theta_deg` (degrees) to `path` (MSH 2.2 ASCII; see the module
 /// documentation).
 pub fn write_gmsh_view(path: &Path, field: &Field, theta_deg: &[f64]) -> Result<(), ReportError> {
+    write_gmsh_view_with(path, field, theta_deg, None)
+}
+
+/// [`write_gmsh_view`], the stress of a cell of a plastic body from
+/// `plastic` when given.
+pub fn write_gmsh_view_with(
+    path: &Path,
+    field: &Field,
+    theta_deg: &[f64],
+    plastic: Option<&PlasticStress>,
+) -> Result<(), ReportError> {
     let mesh = field.mesh;
     check_finite(path, theta_deg, || "an angle".into())?;
     let mut s = String::new();
@@ -123,7 +140,14 @@ pub fn write_gmsh_view(path: &Path, field: &Field, theta_deg: &[f64]) -> Result<
         let _ = writeln!(w, "$EndNodeData");
         // Stress at each cell's nodes, the cell's own field.
         let stress: Vec<Vec<[f64; 6]>> = (0..mesh.cells.len())
-            .map(|c| field.cell_node_stress(c, theta))
+            .map(|c| match plastic.filter(|ps| ps.has(c)) {
+                Some(ps) => mesh.cells[c]
+                    .nodes
+                    .iter()
+                    .map(|&n| ps.at(c, mesh.nodes[n], theta).unwrap_or([f64::NAN; 6]))
+                    .collect(),
+                None => field.cell_node_stress(c, theta),
+            })
             .collect();
         for (c, values) in stress.iter().enumerate() {
             check_finite(path, values.as_flattened(), || {

@@ -17,7 +17,8 @@
 //! - a radial cut's `sigma_r` and `sigma_theta` (recovered from
 //!   `plastic.json` in the plastic body) within 2 % of `c_u` of Hill's
 //!   closed form at every cut point, in the plastic zone and out of it;
-//!   `field.vtu`'s `sigma_cyl` at the cut's nodes within 3 %;
+//!   `field.vtu`'s `sigma_cyl` at the cut's nodes within 3 %, and the gmsh
+//!   views' at every node of every cell within 3 %;
 //! - without `plastic.json` (a folder of an elastic run, or an older one)
 //!   the report still reads the folder and writes no plastic array.
 
@@ -230,7 +231,7 @@ fn thick_cylinder_cut_stress_is_the_returned_one() {
     let mut s = scene_json();
     s["cuts"] = json!([{"name": "radial", "from": [0.5, 0.125], "to": [1.0, 0.125],
         "spacing": 0.025, "theta_deg": [0], "component": "sigma_theta"}]);
-    s["outputs"] = json!({"plots": false, "gmsh_views": false});
+    s["outputs"] = json!({"plots": false, "gmsh_views": true});
     let scene = Scene::from_str(&s.to_string(), geo("plastic_cylinder.json")).expect("scene");
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path().join("out");
@@ -288,4 +289,65 @@ fn thick_cylinder_cut_stress_is_the_returned_one() {
     }
     println!("field.vtu: {count} points on the cut, worst error {worst:.4}");
     assert!(count >= 9 && worst <= 0.03, "{count} points, worst {worst}");
+
+    // field_views.msh: every cell's sigma_r and sigma_theta at its nodes.
+    let msh = std::fs::read_to_string(dir.join("field_views.msh")).unwrap();
+    let mut r_of = std::collections::HashMap::new();
+    let nodes = msh
+        .split("$Nodes\n")
+        .nth(1)
+        .unwrap()
+        .split("$EndNodes")
+        .next()
+        .unwrap();
+    for line in nodes.lines().skip(1) {
+        let v: Vec<f64> = line.split_whitespace().map(|x| x.parse().unwrap()).collect();
+        r_of.insert(v[0] as usize, v[1]);
+    }
+    let mut cell_nodes = std::collections::HashMap::new();
+    let elements = msh
+        .split("$Elements\n")
+        .nth(1)
+        .unwrap()
+        .split("$EndElements")
+        .next()
+        .unwrap();
+    for line in elements.lines().skip(1) {
+        let v: Vec<usize> = line.split_whitespace().map(|x| x.parse().unwrap()).collect();
+        let tags = v[2];
+        cell_nodes.insert(v[0], v[3 + tags..].to_vec());
+    }
+    let view = |name: &str| -> Vec<(usize, Vec<f64>)> {
+        let head = format!("\"{name} theta=0\"");
+        let block = msh
+            .split(&head)
+            .nth(1)
+            .unwrap()
+            .split("$EndElementNodeData")
+            .next()
+            .unwrap();
+        block
+            .lines()
+            .skip(7)
+            .map(|l| {
+                let v: Vec<&str> = l.split_whitespace().collect();
+                (
+                    v[0].parse().unwrap(),
+                    v[2..].iter().map(|x| x.parse().unwrap()).collect(),
+                )
+            })
+            .collect()
+    };
+    let (mut worst, mut count) = (0.0f64, 0);
+    for (which, component) in [(0, "sigma_r"), (1, "sigma_theta")] {
+        for (cell, values) in view(component) {
+            for (node, v) in cell_nodes[&cell].iter().zip(values) {
+                let (sr, sth) = hill(r_of[node]);
+                worst = worst.max((v - if which == 0 { sr } else { sth }).abs());
+                count += 1;
+            }
+        }
+    }
+    println!("field_views.msh: {count} values, worst error {worst:.4}");
+    assert!(count > 100 && worst <= 0.03, "{count} values, worst {worst}");
 }

@@ -117,8 +117,8 @@ pub fn write_report(
         }));
     }
     if outputs.gmsh_views {
-        let field = &field;
-        tasks.push(Box::new(move || views::write_gmsh(ctx, field)));
+        let (field, recovery) = (&field, recovery.as_ref());
+        tasks.push(Box::new(move || views::write_gmsh(ctx, field, recovery)));
     }
     let cuts = cuts::Cuts {
         ctx,

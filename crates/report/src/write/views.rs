@@ -50,8 +50,13 @@ pub(super) fn write_vtu(
     Ok(files)
 }
 
-/// Writes `field_views.msh` at every angle of the cuts (0 without cuts).
-pub(super) fn write_gmsh(ctx: Ctx, field: &Field) -> Result<Vec<String>, ReportError> {
+/// Writes `field_views.msh` at every angle of the cuts (0 without cuts),
+/// the stress of a plastic body from `plastic`.
+pub(super) fn write_gmsh(
+    ctx: Ctx,
+    field: &Field,
+    plastic: Option<&crate::recovery::PlasticStress>,
+) -> Result<Vec<String>, ReportError> {
     let mut thetas: Vec<f64> = ctx
         .scene
         .cuts
@@ -63,6 +68,6 @@ pub(super) fn write_gmsh(ctx: Ctx, field: &Field) -> Result<Vec<String>, ReportE
     if thetas.is_empty() {
         thetas.push(0.0);
     }
-    gmsh_view::write_gmsh_view(&ctx.dir.join("field_views.msh"), field, &thetas)?;
+    gmsh_view::write_gmsh_view_with(&ctx.dir.join("field_views.msh"), field, &thetas, plastic)?;
     Ok(vec!["field_views.msh".into()])
 }
