@@ -9,6 +9,7 @@
 //! | both moduli in MPa typed as 1e-6 of their value | the displacement is far beyond 5 % of the model's size |
 //! | the footing's modulus 1e7 times smaller | moduli 1e7 apart |
 //! | a unit weight 1e4 (MN/m^3) | gamma L / E above 1 |
+//! | water of 9.81 (kN/m^3) beside unit weights of 0.024 (MN/m^3); 0.00981 | unit weights out of scale with the water's; no warning |
 //! | Scene P (newton) with its joint's springs 1e6 times table1's | k h / E far above 10 x the rigid penalty; as shipped, and rigid, no warning |
 
 use axijoint_solver::run::{solve_scene, warnings};
@@ -63,6 +64,23 @@ fn implausible_runs_are_warned_about_and_the_shipped_scene_is_not() {
             .any(|w| w.contains("materials.footing") && w.contains("gamma L / E")),
         "{w:?}"
     );
+
+    // Water in kN/m^3 beside unit weights in MN/m^3; in MN/m^3 no warning.
+    let wet = |gamma_w: f64| {
+        scene(move |v| {
+            v["materials"]["pile"]["unit_weight"] = 0.024.into();
+            v["materials"]["footing"]["unit_weight"] = 0.024.into();
+            v["water"] = serde_json::json!({"surface_z": 10.0, "unit_weight": gamma_w});
+        })
+    };
+    let w = warned(&wet(9.81));
+    assert!(
+        w.iter()
+            .any(|w| w.contains("water.unit_weight 9.81") && w.contains("another unit")),
+        "{w:?}"
+    );
+    let w = warned(&wet(0.00981));
+    assert!(!w.iter().any(|w| w.contains("water")), "{w:?}");
 }
 
 /// A nonlinear run at M = 32 whose M/2 check changes nothing measurable

@@ -13,6 +13,8 @@ use axijoint_mesh::Mesh;
 pub const LARGE_DISPLACEMENT: f64 = 0.05;
 /// Young's moduli of two materials further apart than this factor.
 pub const MODULUS_CONTRAST: f64 = 1e6;
+/// Unit weights of materials outside these multiples of the water's.
+pub const WATER_RATIO: (f64, f64) = (0.1, 20.0);
 /// A self-weight strain `gamma L / E` (L the model's size) above this.
 pub const WEIGHT_STRAIN: f64 = 1.0;
 /// A given nonlinear joint spring with `k h / E` above this (h the joint's
@@ -66,7 +68,8 @@ fn model_size(mesh: &Mesh) -> f64 {
     }
 }
 
-/// Moduli far apart; a self-weight that strains a material beyond reason.
+/// Moduli far apart; unit weights out of scale with the water's; a
+/// self-weight that strains a material beyond reason.
 fn material_warnings(scene: &Scene, size: f64) -> Vec<String> {
     let mut out = Vec::new();
     let by_e = |a: &&(&String, f64), b: &&(&String, f64)| a.1.total_cmp(&b.1);
@@ -81,6 +84,24 @@ fn material_warnings(scene: &Scene, size: f64) -> Vec<String> {
                 soft.0,
                 Short(soft.1),
                 scene.units.stress
+            ));
+        }
+    }
+    if let Some(w) = &scene.water {
+        let weights = scene
+            .materials
+            .values()
+            .map(|m| m.unit_weight)
+            .filter(|&g| g > 0.0);
+        let (lo, hi) = weights.fold((f64::INFINITY, 0.0f64), |(lo, hi), g| (lo.min(g), hi.max(g)));
+        if hi > 0.0 && (lo < WATER_RATIO.0 * w.unit_weight || hi > WATER_RATIO.1 * w.unit_weight) {
+            out.push(format!(
+                "water.unit_weight {} against the materials' unit weights {} to {}: soils weigh 1.2 to 2.5 times water, concrete 2.4, steel 7.9; is one of them in another unit (force {} / length {})?",
+                Short(w.unit_weight),
+                Short(lo),
+                Short(hi),
+                scene.units.force,
+                scene.units.length
             ));
         }
     }
