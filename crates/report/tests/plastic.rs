@@ -293,26 +293,21 @@ fn thick_cylinder_cut_stress_is_the_returned_one() {
     // field_views.msh: every cell's sigma_r and sigma_theta at its nodes.
     let msh = std::fs::read_to_string(dir.join("field_views.msh")).unwrap();
     let mut r_of = std::collections::HashMap::new();
-    let nodes = msh
-        .split("$Nodes\n")
-        .nth(1)
-        .unwrap()
-        .split("$EndNodes")
-        .next()
-        .unwrap();
-    for line in nodes.lines().skip(1) {
+    // The body of a `$Name ... $EndName` section.
+    let section = |name: &str| {
+        msh.split(&format!("${name}\n"))
+            .nth(1)
+            .unwrap()
+            .split(&format!("$End{name}"))
+            .next()
+            .unwrap()
+    };
+    for line in section("Nodes").lines().skip(1) {
         let v: Vec<f64> = line.split_whitespace().map(|x| x.parse().unwrap()).collect();
         r_of.insert(v[0] as usize, v[1]);
     }
     let mut cell_nodes = std::collections::HashMap::new();
-    let elements = msh
-        .split("$Elements\n")
-        .nth(1)
-        .unwrap()
-        .split("$EndElements")
-        .next()
-        .unwrap();
-    for line in elements.lines().skip(1) {
+    for line in section("Elements").lines().skip(1) {
         let v: Vec<usize> = line.split_whitespace().map(|x| x.parse().unwrap()).collect();
         let tags = v[2];
         cell_nodes.insert(v[0], v[3 + tags..].to_vec());

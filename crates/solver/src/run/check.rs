@@ -1,7 +1,7 @@
 //! The M/2 check: the key results of a nonlinear run against the same run
 //! with harmonics 0..=M/2, the user's check that M is enough.
 
-use super::measures::{face_displacement, max_displacement, padded, reactions, with_released};
+use super::measures::{face_displacement, max_displacement, moved_reactions, padded};
 use crate::error::SolverError;
 use crate::iteration::Outcome;
 use crate::linear::Model;
@@ -113,12 +113,9 @@ pub(super) fn motion_reactions(
         .filter(|l| matches!(l, Load::Motion(_)))
         .map(Load::on)
         .collect();
-    if moved.is_empty() {
-        return Vec::new();
-    }
     let low: Vec<HarmonicLoads> = loads.iter().filter(|h| h.m <= 1).cloned().collect();
     let d = padded(&o.displacements, &low);
-    reactions(scene, model, &with_released(low, &o.released), &d)
+    moved_reactions(scene, model, &scene.loads, low, &o.released, &d)
         .into_iter()
         .filter(|r| moved.contains(&r.on.as_str()))
         .map(|r| [r.force, r.moment].concat().try_into().expect("six values"))

@@ -343,6 +343,23 @@ pub(super) fn padded(d: &Displacements, all: &[HarmonicLoads]) -> Displacements 
     }
 }
 
+/// The reactions `K u - f - A x` (`loads`, the plastic bodies' `released`
+/// forces added) when one of `faces` is moved by a motion (its reaction is
+/// its load); empty otherwise.
+pub(super) fn moved_reactions(
+    scene: &Scene,
+    model: &Model,
+    faces: &[crate::scene::Load],
+    loads: Vec<HarmonicLoads>,
+    released: &[HarmonicLoads],
+    d: &Displacements,
+) -> Vec<SupportReaction> {
+    if !faces.iter().any(|l| matches!(l, crate::scene::Load::Motion(_))) {
+        return Vec::new();
+    }
+    reactions(scene, model, &with_released(loads, released), d)
+}
+
 /// `loads` plus the released forces of plastic bodies (`released`, per
 /// harmonic; empty: none): the forces a reaction `K u - f` balances.
 pub(super) fn with_released(mut loads: Vec<HarmonicLoads>, released: &[HarmonicLoads]) -> Vec<HarmonicLoads> {

@@ -5,17 +5,18 @@
 use super::check::{faces_measure, halved, HalfRun};
 use super::elastic::{ElasticLoad, Problem};
 use super::initial::InitialState;
-use super::measures::{face_motion, joint_areas, member_bodies, padded, reactions, scaled, with_released};
+use super::measures::{
+    face_motion, joint_areas, member_bodies, moved_reactions, padded, reactions, scaled, with_released,
+};
 use super::model::{iteration_settings, joint_laws};
 use super::sections::scene_sections;
-use super::stages::along;
+use super::stages::{motion_direction, reaction_along};
 use super::start::Start;
 use super::{Run, Stopped};
 use crate::error::SolverError;
 use crate::fourier::Sections;
 use crate::iteration::{IterationRecord, JointField, Outcome, StepBodies};
 use crate::loads::HarmonicLoads;
-use crate::loads::Resultants;
 use crate::results::{JointFieldFile, LoadPath, StepMeasure};
 use crate::scene::{Load, Scene};
 use crate::solution::Displacements;
@@ -62,21 +63,18 @@ pub(super) fn iterate(
     let mesh = &model.mesh;
     let springs: Vec<_> = model.joints.iter().map(|j| j.springs).collect();
     let member_bodies = member_bodies(scene, mesh);
-    let moved = scene.loads.iter().any(|l| matches!(l, Load::Motion(_)));
     let observe = |lambda: f64, u: &Displacements, field: &JointField, bodies: &StepBodies| {
         let d = padded(u, all);
         let file = JointFieldFile::new(mesh, &springs, field);
         // A moved face takes its reaction along its motion.
-        let held = if moved {
-            reactions(
-                scene,
-                model,
-                &with_released(scaled(all, lambda).into_owned(), &bodies.released),
-                &d,
-            )
-        } else {
-            Vec::new()
-        };
+        let held = moved_reactions(
+            scene,
+            model,
+            &scene.loads,
+            scaled(all, lambda).into_owned(),
+            &bodies.released,
+            &d,
+        );
         StepMeasure {
             faces: scene
                 .loads
@@ -84,19 +82,10 @@ pub(super) fn iterate(
                 .filter_map(|l| {
                     face_motion(mesh, l, &d).map(|mut f| {
                         if let Load::Motion(mo) = l {
-                            f.applied = held.iter().find(|r| r.on == f.on).map(|r| {
-                                let motion = Resultants {
-                                    force: mo.displacement,
-                                    moment: mo.rotation,
-                                };
-                                along(
-                                    &motion,
-                                    &Resultants {
-                                        force: r.force,
-                                        moment: r.moment,
-                                    },
-                                )
-                            });
+                            f.applied = held
+                                .iter()
+                                .find(|r| r.on == f.on)
+                                .map(|r| reaction_along(&motion_direction(mo), r));
                         }
                         f
                     })

@@ -48,7 +48,7 @@ fn resultant(scene: &Scene, model: &Model, loads: Vec<Load>, m_max: u32) -> Resu
 /// The load of `face` along the direction of `first` (its first load):
 /// the force along the first's force, or without one the moment along the
 /// first's moment (a torque, or the turn of a tilting `motion`).
-pub(super) fn along(first: &Resultants, r: &Resultants) -> f64 {
+fn along(first: &Resultants, r: &Resultants) -> f64 {
     let dot = |a: &[f64; 3], b: &[f64; 3]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
     let norm = dot(&first.force, &first.force).sqrt();
     if norm > 0.0 {
@@ -61,6 +61,25 @@ pub(super) fn along(first: &Resultants, r: &Resultants) -> f64 {
             0.0
         }
     }
+}
+
+/// The direction of a moved face: its translation, else its turn.
+pub(super) fn motion_direction(mo: &crate::scene::MotionLoad) -> Resultants {
+    Resultants {
+        force: mo.displacement,
+        moment: mo.rotation,
+    }
+}
+
+/// The reaction `r` along the direction `first` ([`along`]).
+pub(super) fn reaction_along(first: &Resultants, r: &crate::solution::SupportReaction) -> f64 {
+    along(
+        first,
+        &Resultants {
+            force: r.force,
+            moment: r.moment,
+        },
+    )
 }
 
 /// The work of the joints' slip from field `a` to field `b` (same pairs):
@@ -144,10 +163,7 @@ pub(super) fn iterate_stages(
     let firsts: Vec<Resultants> = faces
         .iter()
         .map(|l| match l {
-            Load::Motion(mo) => Ok(Resultants {
-                force: mo.displacement,
-                moment: mo.rotation,
-            }),
+            Load::Motion(mo) => Ok(motion_direction(mo)),
             _ => resultant(scene, model, vec![l.clone()], m_all),
         })
         .collect::<Result<_, _>>()?;
@@ -222,16 +238,8 @@ pub(super) fn iterate_stages(
             };
             let dissipated = slip_work(last_field.get_or_insert_with(start), field, &springs);
             // A moved face takes its reaction.
-            let held = if faces.iter().any(|l| matches!(l, Load::Motion(_))) {
-                super::measures::reactions(
-                    scene,
-                    model,
-                    &super::measures::with_released(at.clone(), &bodies.released),
-                    &d,
-                )
-            } else {
-                Vec::new()
-            };
+            let held =
+                super::measures::moved_reactions(scene, model, &faces, at.clone(), &bodies.released, &d);
             last_field = Some(field.clone());
             StepMeasure {
                 faces: faces
@@ -241,13 +249,7 @@ pub(super) fn iterate_stages(
                     .filter_map(|((l, (a0, a1)), first)| {
                         face_motion(mesh, l, &d).map(|mut f| {
                             f.applied = Some(match held.iter().find(|r| r.on == f.on) {
-                                Some(r) if matches!(l, Load::Motion(_)) => along(
-                                    first,
-                                    &Resultants {
-                                        force: r.force,
-                                        moment: r.moment,
-                                    },
-                                ),
+                                Some(r) if matches!(l, Load::Motion(_)) => reaction_along(first, r),
                                 _ => a0 + lambda * (a1 - a0),
                             });
                             f
