@@ -451,7 +451,7 @@ fn quotes(work: &Path, mesh: &Value) -> Vec<Quote> {
         q("MN, 2.8 % less", 100.0 * (1.0 - clay_fine / clay_end), 0.5),
         q("(and 8 % below", 100.0 * (1.0 - clay_fine / clay_estimate), 0.5),
         q("each of the 17 sections", clay_sections, 0.0),
-        q("each of the 330 solves", clay_solves, 0.3),
+        q("each of the 297 solves", clay_solves, 0.3),
     ]
 }
 

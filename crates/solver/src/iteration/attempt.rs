@@ -11,12 +11,17 @@ use super::types::{IterationError, IterationRecord};
 /// reference `Psi_0` of the residual ratio (`None`: the first residual);
 /// `u_s`, the section displacements at `x0` and
 /// the current load when a converged evaluation gave them (a new debonding
-/// round, the rest of a loose solve: Newton starts without a sweep).
+/// round, the rest of a loose solve: Newton starts without a sweep);
+/// `predicted`, a second candidate for `x0` (the released forces of the
+/// last two converged steps extrapolated to this load; with plastic bodies
+/// only), which Newton on the section forces starts from when its residual
+/// is the smaller.
 pub(super) struct Start {
     pub(super) x0: Vec<f64>,
     pub(super) y0: Option<Vec<f64>>,
     pub(super) psi_ref: Option<f64>,
     pub(super) u_s: Option<Vec<f64>>,
+    pub(super) predicted: Option<Vec<f64>>,
 }
 
 impl Start {
@@ -27,6 +32,7 @@ impl Start {
             y0: None,
             psi_ref: None,
             u_s: None,
+            predicted: None,
         }
     }
 
@@ -39,6 +45,7 @@ impl Start {
             y0: Some(conv.y),
             psi_ref,
             u_s: Some(conv.ev.u_s),
+            predicted: None,
         }
     }
 }

@@ -12,6 +12,9 @@ use crate::elements::CellValues;
 use crate::linear::Model;
 use crate::material::Elastic;
 use crate::plasticity::YieldCriterion;
+use faer::linalg::matmul::matmul;
+use faer::reborrow::{Reborrow, ReborrowMut};
+use faer::{Accum, MatMut, MatRef, Par};
 
 /// The body tangent at one (section, body point): the derivative of the
 /// released stress `D eps - sigma(eps)` with respect to the strain, `D -
@@ -196,67 +199,153 @@ impl Bodies {
 
 /// Kinds of basis factor a section's strain operator takes per DOF: the
 /// basis `a` (r, z components) and `b` (theta), and their derivatives.
-const KINDS: usize = 4;
+pub(super) const KINDS: usize = 4;
 
-/// The basis `(a, b)` of one harmonic and family at a section, and its
-/// theta derivative `(a', b')`.
-pub(super) type SectionBasis = ((f64, f64), (f64, f64));
+/// The kind pairs `(k, l)`, `k <= l`.
+const PAIRS: [(usize, usize); 10] = [
+    (0, 0),
+    (0, 1),
+    (0, 2),
+    (0, 3),
+    (1, 1),
+    (1, 2),
+    (1, 3),
+    (2, 2),
+    (2, 3),
+    (3, 3),
+];
+
+/// The basis of one harmonic m and family at the sections: its four kinds
+/// `(a, b, a', b')` are each `alpha_k u + beta_k v` with `(u, v) = (cos m
+/// theta, sin m theta)` (`(1, 0)` at m = 0), so a sum over the sections of
+/// `w_s k_s l_s T_s` (w the section weights) needs only the three sums of
+/// `w u^2 T_s`, `w u v T_s`, `w v^2 T_s`.
+pub(super) struct SectionBasis {
+    /// `w (u^2, u v, v^2)` per section.
+    products: Vec<[f64; 3]>,
+    /// `alpha_k` and `beta_k` per kind.
+    pub(super) alpha: [f64; KINDS],
+    pub(super) beta: [f64; KINDS],
+}
+
+impl SectionBasis {
+    /// From the kinds' values `f(theta)` at the sections `theta` of
+    /// weights `weight`: alpha at theta = 0, beta at `pi / 2m` (none at m =
+    /// 0).
+    pub(super) fn new(m: u32, theta: &[f64], weight: &[f64], f: impl Fn(f64) -> [f64; KINDS]) -> Self {
+        let mf = f64::from(m);
+        let uv: Vec<(f64, f64)> = theta
+            .iter()
+            .map(|&t| {
+                if m == 0 {
+                    (1.0, 0.0)
+                } else {
+                    ((mf * t).cos(), (mf * t).sin())
+                }
+            })
+            .collect();
+        let products = uv
+            .iter()
+            .zip(weight)
+            .map(|(&(u, v), &w)| [w * u * u, w * u * v, w * v * v])
+            .collect();
+        let alpha = f(0.0);
+        let beta = if m == 0 {
+            [0.0; KINDS]
+        } else {
+            f(std::f64::consts::FRAC_PI_2 / mf)
+        };
+        SectionBasis {
+            products,
+            alpha,
+            beta,
+        }
+    }
+}
 
 impl Bodies {
+    /// Per cell with a yielding point in `tangents`, the stacked strain
+    /// operators `[C_a; C_b; C_a'; C_b']` (24 x 3 nodes, column-major) of
+    /// each of its points, the volumetric part projected
+    /// ([`projected_operators`]); computed once per linearization for
+    /// every harmonic's [`Bodies::subtract_tangent`].
+    pub(super) fn tangent_operators(&self, tangents: &[BodyTangent]) -> Vec<Option<Vec<f64>>> {
+        let n_b = self.n_points();
+        let sections = tangents.len() / n_b.max(1);
+        self.cells
+            .iter()
+            .map(|cell| {
+                let nq = cell.values.n_points();
+                let yielding = (0..sections).any(|s| {
+                    tangents[s * n_b + cell.first..s * n_b + cell.first + nq]
+                        .iter()
+                        .any(Option::is_some)
+                });
+                yielding.then(|| {
+                    let nd = 3 * cell.local.len();
+                    let n = 6 * KINDS;
+                    let mut c = vec![0.0; nq * n * nd];
+                    for (q, ops) in projected_operators(cell).iter().enumerate() {
+                        for (kk, op) in ops.iter().enumerate() {
+                            for (col, v) in op.iter().enumerate() {
+                                for (i, vi) in v.iter().enumerate() {
+                                    c[q * n * nd + col * n + 6 * kk + i] = *vi;
+                                }
+                            }
+                        }
+                    }
+                    c
+                })
+            })
+            .collect()
+    }
+
     /// Subtracts the plastic bodies' part of the harmonic-diagonal tangent
     /// `(A T S)_mm` of one family from the assembled values of `K_m`
     /// (upper triangle, `pinned` equations skipped): `sum_q sum_s w_s B_s^T
-    /// T_s B_s r |det J| w_q` with `B_s = B_U Phi_s + B_D Phi'_s`, the
-    /// basis `basis[s] = ((a, b), (a', b'))` and `T_s` the symmetric part of
-    /// each point's [`BodyTangent`] (index
-    /// `s * points + q`; none: elastic there). The sections are summed per
-    /// kind pair first (`T_kl = sum_s w_s k_s l_s T_s`), so a point costs the
-    /// same at any number of sections.
+    /// T_s B_s r |det J| w_q` with `B_s = B_U Phi_s + B_D Phi'_s` (the
+    /// kinds of `basis`) and `T_s` the symmetric part of each point's
+    /// [`BodyTangent`] (index `s * points + q`; none: elastic there). The
+    /// sections are summed first, three sums per point
+    /// ([`SectionBasis`]), so a point costs about the same at any number
+    /// of sections.
     pub(super) fn subtract_tangent(
         &self,
         model: &Model,
-        basis: &[SectionBasis],
-        weights: &[f64],
+        basis: &SectionBasis,
         tangents: &[BodyTangent],
+        operators: &[Option<Vec<f64>>],
         pinned: &[bool],
         values: &mut [f64],
     ) {
         let n_b = self.n_points();
         let mut ke = nalgebra::DMatrix::<f64>::zeros(0, 0);
-        for cell in &self.cells {
+        // The tangents per kind pair `T_kl` as one 24 x 24 matrix, and its
+        // product with a point's stacked operators C.
+        let mut tc = nalgebra::DMatrix::<f64>::zeros(0, 0);
+        let mut t = nalgebra::DMatrix::<f64>::zeros(6 * KINDS, 6 * KINDS);
+        for (cell, ops) in self.cells.iter().zip(operators) {
+            let Some(ops) = ops else { continue };
             let nd = 3 * cell.local.len();
             ke.resize_mut(nd, nd, 0.0);
             ke.fill(0.0);
-            let nq = cell.values.n_points();
-            let sections = weights.len();
-            if (0..sections).all(|s| {
-                tangents[s * n_b + cell.first..s * n_b + cell.first + nq]
-                    .iter()
-                    .all(Option::is_none)
-            }) {
-                continue;
-            }
+            tc.resize_mut(6 * KINDS, nd, 0.0);
             let mut any = false;
-            let ops_all = projected_operators(cell);
-            for (q, ops) in ops_all.iter().enumerate() {
+            for (q, c) in ops.chunks_exact(6 * KINDS * nd).enumerate() {
                 let k = cell.first + q;
-                // T_kl over the sections.
-                let mut tk = [[[[0.0; 6]; 6]; KINDS]; KINDS];
+                // S = sum_s w_s (u^2, u v, v^2)_s sym(T_s).
+                let mut sums = [[0.0; 36]; 3];
                 let mut yielding = false;
-                for (s, (&((a, b), (da, db)), &w)) in basis.iter().zip(weights).enumerate() {
-                    let Some(t) = &tangents[s * n_b + k] else { continue };
+                for (s, f) in basis.products.iter().enumerate() {
+                    let Some(ts) = &tangents[s * n_b + k] else {
+                        continue;
+                    };
                     yielding = true;
-                    let f = [a, b, da, db];
-                    for (kk, row) in tk.iter_mut().enumerate() {
-                        for (ll, m) in row.iter_mut().enumerate() {
-                            let c = w * f[kk] * f[ll];
-                            if c == 0.0 {
-                                continue;
-                            }
-                            for i in 0..6 {
-                                for j in 0..6 {
-                                    m[i][j] += c * 0.5 * (t[i][j] + t[j][i]);
-                                }
+                    for i in 0..6 {
+                        for j in 0..6 {
+                            let sym = 0.5 * (ts[i][j] + ts[j][i]);
+                            for (sum, fi) in sums.iter_mut().zip(f) {
+                                sum[6 * i + j] += fi * sym;
                             }
                         }
                     }
@@ -265,29 +354,50 @@ impl Bodies {
                     continue;
                 }
                 any = true;
-                let wq = cell.values.r(q) * cell.values.weight(q);
-                // ke += wq sum_k C_k^T (sum_l T_kl C_l)
-                for (kk, row) in tk.iter().enumerate() {
-                    let mut y = vec![[0.0; 6]; nd];
-                    for (ll, t) in row.iter().enumerate() {
-                        for (col, c) in ops[ll].iter().enumerate() {
-                            if *c == [0.0; 6] {
-                                continue;
-                            }
-                            for i in 0..6 {
-                                y[col][i] += (0..6).map(|j| t[i][j] * c[j]).sum::<f64>();
+                // T_kl = sum_s w_s k_s l_s sym(T_s), k <= l (T_lk = T_kl).
+                let (al, be) = (&basis.alpha, &basis.beta);
+                for &(kk, ll) in &PAIRS {
+                    let f = [
+                        al[kk] * al[ll],
+                        al[kk] * be[ll] + be[kk] * al[ll],
+                        be[kk] * be[ll],
+                    ];
+                    let mut m = [0.0; 36];
+                    for (sum, fi) in sums.iter().zip(f) {
+                        if fi != 0.0 {
+                            for (mi, si) in m.iter_mut().zip(sum) {
+                                *mi += fi * si;
                             }
                         }
                     }
-                    for (a, ca) in ops[kk].iter().enumerate() {
-                        if *ca == [0.0; 6] {
-                            continue;
-                        }
-                        for (b, yb) in y.iter().enumerate() {
-                            ke[(a, b)] += wq * (0..6).map(|i| ca[i] * yb[i]).sum::<f64>();
+                    for i in 0..6 {
+                        for j in 0..6 {
+                            t[(6 * kk + i, 6 * ll + j)] = m[6 * i + j];
+                            t[(6 * ll + j, 6 * kk + i)] = m[6 * i + j];
                         }
                     }
                 }
+                // ke += wq C^T T C
+                let wq = cell.values.r(q) * cell.values.weight(q);
+                let n = 6 * KINDS;
+                let cm = MatRef::from_column_major_slice(c, n, nd);
+                let mut tcm = MatMut::from_column_major_slice_mut(tc.as_mut_slice(), n, nd);
+                matmul(
+                    tcm.rb_mut(),
+                    Accum::Replace,
+                    MatRef::from_column_major_slice(t.as_slice(), n, n),
+                    cm,
+                    1.0,
+                    Par::Seq,
+                );
+                matmul(
+                    MatMut::from_column_major_slice_mut(ke.as_mut_slice(), nd, nd),
+                    Accum::Add,
+                    cm.transpose(),
+                    tcm.rb(),
+                    wq,
+                    Par::Seq,
+                );
             }
             if any {
                 ke.neg_mut();
@@ -356,4 +466,39 @@ pub fn plastic_points(model: &Model) -> Result<Vec<(usize, [f64; 2])>, Iteration
         .into_iter()
         .zip(bodies.positions())
         .collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fourier::{basis_derivative, Family, Sections};
+
+    /// The three-sum form of [`SectionBasis`] reproduces every kind of the
+    /// basis at every angle, harmonic, family and circle (the half circle
+    /// zeroes `b` at m = 0).
+    #[test]
+    fn section_basis_reproduces_the_kinds() {
+        for sections in [Sections::half_equispaced(9), Sections::full_equispaced(12)] {
+            for m in 0..5 {
+                for family in [Family::Symmetric, Family::Antisymmetric] {
+                    let kinds = |t: f64| {
+                        let ((a, b), (da, db)) = (sections.phi(m, family, t), basis_derivative(m, family, t));
+                        [a, b, da, db]
+                    };
+                    let basis = SectionBasis::new(m, &sections.theta, &sections.weight, kinds);
+                    for &t in &sections.theta {
+                        let mt = f64::from(m) * t;
+                        let (u, v) = if m == 0 { (1.0, 0.0) } else { (mt.cos(), mt.sin()) };
+                        for (k, want) in kinds(t).into_iter().enumerate() {
+                            let got = basis.alpha[k] * u + basis.beta[k] * v;
+                            assert!(
+                                (got - want).abs() < 1e-12,
+                                "m {m} {family:?} kind {k} at {t}: {got} vs {want}"
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
 }

@@ -68,6 +68,7 @@ mod sweep;
 mod traction;
 mod transfer;
 mod types;
+mod vector;
 
 pub use body::plastic_points;
 pub use entry::{solve, stress_transfer, Solved, Stepping};

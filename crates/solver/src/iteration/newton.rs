@@ -6,6 +6,7 @@
 //! ([`Krylov`]).
 
 use super::attempt::{Converged, Failure, Start};
+use super::body::SectionBasis;
 use super::diagnosis::{no_equilibrium, not_converged, unresolved};
 use super::eval::Eval;
 use super::formulation::{Formulation, NEWTON_HALVINGS};
@@ -14,6 +15,7 @@ use super::sweep::Sweep;
 use super::traction::Traction;
 use super::transfer::JointAmplitudes;
 use super::types::{IterationError, IterationRecord, IterationSettings};
+use super::vector::{axpy, dot, norm};
 use crate::fourier::{basis_derivative, Family};
 use crate::linear::HarmonicFactor;
 use rayon::prelude::*;
@@ -72,6 +74,7 @@ impl<'s, 'a> Nodal<'s, 'a> {
         }
         let sections = setup.sections();
         let model = setup.model;
+        let operators = bodies.tangent_operators(&self.tangents.bodies);
         let jobs: Vec<(usize, usize)> = (0..setup.loads.len())
             .flat_map(|h| {
                 (0..2)
@@ -88,17 +91,16 @@ impl<'s, 'a> Nodal<'s, 'a> {
                 } else {
                     Family::Antisymmetric
                 };
-                let basis: Vec<_> = sections
-                    .theta
-                    .iter()
-                    .map(|&t| (sections.phi(m, family, t), basis_derivative(m, family, t)))
-                    .collect();
+                let basis = SectionBasis::new(m, &sections.theta, &sections.weight, |t| {
+                    let ((a, b), (da, db)) = (sections.phi(m, family, t), basis_derivative(m, family, t));
+                    [a, b, da, db]
+                });
                 let (mut values, pinned) = model.assemble_from_terms(m);
                 bodies.subtract_tangent(
                     model,
                     &basis,
-                    &sections.weight,
                     &self.tangents.bodies,
+                    &operators,
                     &pinned,
                     &mut values,
                 );
@@ -391,6 +393,10 @@ pub(super) fn newton(
     if sweep.setup.softened() && sweep.setup.bodies.is_none() {
         let mut form = Traction::new(*sweep, settings.coupled_max, settings.gmres_first);
         let y0 = form.start(&from);
+        let from = Start {
+            predicted: None,
+            ..from
+        };
         solve(sweep, &mut form, y0, settings, from, progress)
     } else {
         let y0 = from.x0.clone();
@@ -605,6 +611,28 @@ fn solve(
             1
         }
     };
+    // A predicted start (one more sweep), kept if its residual is smaller.
+    let first_solves = match from.predicted.as_deref().filter(|p| p.len() == it.y.len()) {
+        Some(p) => {
+            it.y_trial.copy_from_slice(p);
+            it.trial.broken.copy_from_slice(&it.acc.broken);
+            let Iterate {
+                y_trial,
+                released,
+                trial,
+                res_trial,
+                x,
+                ..
+            } = &mut it;
+            evaluate(form, y_trial, released, trial, res_trial, x);
+            if norm(&it.res_trial) < norm(&it.res) {
+                it.advance();
+            }
+            form.forces(&it.y, &mut it.x);
+            first_solves + 1
+        }
+        None => first_solves,
+    };
     form.section_residual(&it.res, &mut it.rx);
     let psi_first = setup.section_max(&it.rx);
     let psi0 = from.psi_ref.unwrap_or(psi_first);
@@ -697,19 +725,4 @@ fn solve(
     }
     let e = not_converged(setup, &it.rx, settings, history);
     Err(it.fail(e))
-}
-
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
-}
-
-fn norm(a: &[f64]) -> f64 {
-    dot(a, a).sqrt()
-}
-
-/// `y += alpha x`.
-fn axpy(alpha: f64, x: &[f64], y: &mut [f64]) {
-    for (yi, xi) in y.iter_mut().zip(x) {
-        *yi += alpha * xi;
-    }
 }

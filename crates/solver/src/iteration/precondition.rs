@@ -56,6 +56,7 @@ use super::interface::Interface;
 use super::release::Tangent;
 use super::setup::Setup;
 use super::transfer::JointAmplitudes;
+use super::vector::{dot, norm};
 use crate::elements::{add_traction_forces, relative_displacement};
 use crate::fourier::Family;
 use faer::linalg::solvers::{PartialPivLu, Solve};
@@ -627,12 +628,4 @@ impl BlockPreconditioner {
         }
         setup.transfer.synthesize(released, u_s);
     }
-}
-
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
-}
-
-fn norm(a: &[f64]) -> f64 {
-    dot(a, a).sqrt()
 }
