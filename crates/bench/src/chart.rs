@@ -29,9 +29,9 @@ pub const FRONT_LABEL: &str = "Pareto front (axijoint)";
 pub const PEER_LABEL: &str = "CalculiX 3D (error vs axijoint reference)";
 
 static FONT_BYTES: &[u8] = include_bytes!("../../report/assets/DejaVuSans.ttf");
-const FONT: &str = "sans-serif";
+pub(crate) const FONT: &str = "sans-serif";
 
-fn ensure_font() -> Result<()> {
+pub(crate) fn ensure_font() -> Result<()> {
     static OK: OnceLock<bool> = OnceLock::new();
     if *OK.get_or_init(|| plotters::style::register_font(FONT, FontStyle::Normal, FONT_BYTES).is_ok()) {
         Ok(())

@@ -1,6 +1,8 @@
 //! Accuracy-against-speed study of axijoint (scripts/bench-accuracy):
 //! Scene P solved by axijoint over meshes, harmonics and methods, and by a
-//! full 3D CalculiX model ([`peer3d`]), compared on the same stress profiles.
+//! full 3D CalculiX model ([`peer3d`]), compared on the same stress profiles;
+//! and the tutorial's pile in clay against CalculiX's Mises plasticity
+//! ([`plastic_bench`], [`plastic_peer`]), compared on the head's reaction.
 //!
 //! | symbol | meaning | unit |
 //! |---|---|---|
@@ -19,6 +21,9 @@ pub mod errors;
 pub mod measure;
 pub mod pareto;
 pub mod peer3d;
+pub mod plastic_bench;
+pub mod plastic_chart;
+pub mod plastic_peer;
 pub mod profile;
 pub mod summary;
 pub mod sweep;

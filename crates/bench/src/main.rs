@@ -31,6 +31,9 @@ const RATIO_PEER_SIZES: [f64; 2] = [0.1, 0.06];
 /// reached below 0.4).
 const RATIO_SIZES: [f64; 8] = [1.0, 0.8, 0.6, 0.4, 0.3, 0.2, 0.12, 0.07];
 
+/// --plastic: the peer's sizes h at the pile (geo/pile_clay_3d.geo).
+const PLASTIC_PEER_SIZES: [f64; 2] = [0.3, 0.2];
+
 const ABOUT: &str = "Accuracy against cost of axijoint on Scene P (and of a CalculiX 3D peer)";
 
 const LONG_ABOUT: &str = "\
@@ -98,7 +101,28 @@ each `axijoint solve` also timed 3 times with the mesh from a warm cache
 time at the peer's profile error, with meshing (gmsh + ccx against `solve
 --no-cache`) and without (ccx alone against the warm `solve`), and whether
 each reaches 1000. Writes OUT/ratio.csv, ratio.svg/.png and
-ratio_summary.csv.";
+ratio_summary.csv.
+
+--plastic: the tutorial's pile in clay (docs/tutorial/pile_clay.json, head
+pushed 0.1 D) by `axijoint solve` (--no-cache: gmsh included) at sizes h
+0.3, 0.2, 0.15 with M = 8 for the soil laws tresca and von_mises (c_u =
+0.05 MPa), and by the CalculiX peer (geo/pile_clay_3d.geo, C3D20R, Mises
+sigma_y = sqrt(3) c_u: axijoint's von_mises) at its sizes 0.3, 0.2 (peak
+2.2 GiB, ~30 min in all). Writes OUT/plastic_peer.csv (one row per run:
+reaction at 0.01 D and 0.1 D, wall, CPU, peak memory, other processes'
+load, error against the reference), OUT/plastic_peer_curves.csv (the
+load-displacement curves) and OUT/plastic_peer.svg and .png, and prints
+the reference: the peer extrapolated to h -> 0 from its three finest
+sizes (R = R_0 + C h^p) when they converge monotonically, else axijoint's
+von_mises runs so extrapolated (the same continuum problem), else the
+peer's finest run; and the peer's finest run as a second reference. For
+each reference and peer run: its wall time over that of the fastest
+axijoint von_mises run whose reaction is at least as close to the
+reference (equal accuracy), against the goal 100. With --no-peer the
+CalculiX rows and curves of an existing OUT/plastic_peer.csv are kept (to
+re-measure axijoint alone); --replot OUT/plastic_peer.csv runs nothing: it
+recomputes the reactions (from the curves) and errors of the rows,
+rewrites OUT/plastic_peer.csv, redraws the chart and prints the summary.";
 
 /// Command line.
 #[derive(Parser, Debug)]
@@ -113,6 +137,13 @@ struct Cli {
     /// below); explicit options still apply.
     #[arg(long)]
     ratio: bool,
+    /// The plastic comparison instead (issue 26 item 6): the tutorial's
+    /// pile in clay by axijoint (tresca, von_mises) and by CalculiX's Mises
+    /// plasticity (see below); --sizes, --harmonics (the first), --peer-sizes,
+    /// --quick, --no-peer (keeps the peer rows of an existing
+    /// plastic_peer.csv), --out-dir and --replot (of plastic_peer.csv) apply.
+    #[arg(long)]
+    plastic: bool,
     /// Skip the CalculiX peer.
     #[arg(long)]
     no_peer: bool,
@@ -207,6 +238,9 @@ fn which(name: &Path) -> PathBuf {
 
 fn real_main() -> Result<()> {
     let mut cli = Cli::parse();
+    if cli.plastic {
+        return plastic_main(&cli);
+    }
     let q = cli.quick;
     let r = cli.ratio;
     if cli.variants.is_empty() {
@@ -429,4 +463,49 @@ fn print_outcome(r: &Row) {
         f(r.load_solve),
         f(r.load_run),
     );
+}
+
+/// `--plastic`: the pile in clay against the CalculiX peer.
+fn plastic_main(cli: &Cli) -> Result<()> {
+    use axijoint_bench::plastic_bench as pb;
+    let pick = |given: &[f64], quick: &[f64], full: &[f64]| -> Vec<f64> {
+        if !given.is_empty() {
+            given.to_vec()
+        } else if cli.quick {
+            quick.to_vec()
+        } else {
+            full.to_vec()
+        }
+    };
+    let out_dir = cli.out_dir.clone().unwrap_or_else(|| {
+        if cli.quick {
+            cli.work_dir.join("plastic-quick")
+        } else {
+            PathBuf::from("docs/performance")
+        }
+    });
+    let axijoint = std::path::absolute(&cli.axijoint)?;
+    if cli.replot.is_none() && !axijoint.is_file() {
+        bail!(
+            "{} not found: build it with `cargo build --release -p axijoint-cli`",
+            axijoint.display()
+        );
+    }
+    let cfg = pb::PlasticConfig {
+        axijoint,
+        gmsh: which(&cli.gmsh),
+        ccx: which(&cli.ccx),
+        scene: std::path::absolute("docs/tutorial/pile_clay.json")?,
+        work_dir: std::path::absolute(cli.work_dir.join("plastic"))?,
+        sizes: pick(&cli.sizes, &[0.3], &[0.3, 0.2, 0.15]),
+        harmonics: cli.harmonics.first().copied().unwrap_or(8),
+        laws: vec!["tresca".into(), "von_mises".into()],
+        peer_sizes: if cli.no_peer {
+            vec![]
+        } else {
+            pick(&cli.peer_sizes, &[0.3], &PLASTIC_PEER_SIZES)
+        },
+        peer_growth: 1.3,
+    };
+    pb::command(&cfg, &out_dir, cli.replot.as_deref(), cli.no_peer)
 }

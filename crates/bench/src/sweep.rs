@@ -232,7 +232,7 @@ pub fn write_scene(variant: &Variant, method: &str, epsilon: f64, dir: &Path) ->
 }
 
 /// Busy CPU seconds of the whole machine so far (/proc/stat), if readable.
-fn machine_busy_seconds() -> Option<f64> {
+pub(crate) fn machine_busy_seconds() -> Option<f64> {
     let stat = std::fs::read_to_string("/proc/stat").ok()?;
     let line = stat.lines().next()?;
     let v: Vec<f64> = line

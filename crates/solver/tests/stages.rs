@@ -214,7 +214,11 @@ fn below_the_capacity_nothing_slips_and_nothing_stays() {
     let w_max = head_path(&run)[1].2;
     let d = face_displacement(&run.problem.model.mesh, "pile_head", &run.displacements).unwrap();
     println!("elastic: w_max {w_max:.4e}, after unloading {:.2e}", d[2]);
-    assert!(w_max > 0.0 && d[2].abs() < 1e-10 * w_max, "{} of {w_max}", d[2]);
+    // Nothing stays but round-off: the strengthless base slips under its
+    // round-off shear at zero load, and its released force leaves about
+    // 2e-16 m (1e-10 w_max; 2.06e-16 or 2.16e-16 with the order of the
+    // Krylov dot products' sums).
+    assert!(w_max > 0.0 && d[2].abs() < 1e-9 * w_max, "{} of {w_max}", d[2]);
 }
 
 #[test]
