@@ -70,18 +70,36 @@ pub fn point(row: &Row) -> Option<(f64, f64)> {
 /// Draws the chart of `rows` for `variants` (one panel each, up to four)
 /// into `svg` and `png` (each written to a temporary name, then renamed).
 pub fn write_chart(rows: &[Row], variants: &[String], svg: &Path, png: &Path) -> Result<()> {
+    write_svg_png(
+        SIZE,
+        svg,
+        png,
+        |root| draw(root, rows, variants),
+        |root| draw(root, rows, variants),
+    )
+}
+
+/// Draws a chart of `size` twice, into `svg` (`draw_svg`) and `png`
+/// (`draw_png`), and writes each atomically.
+pub(crate) fn write_svg_png(
+    size: (u32, u32),
+    svg: &Path,
+    png: &Path,
+    draw_svg: impl FnOnce(&DrawingArea<SVGBackend<'_>, Shift>) -> Result<(), String>,
+    draw_png: impl FnOnce(&DrawingArea<BitMapBackend<'_>, Shift>) -> Result<(), String>,
+) -> Result<()> {
     ensure_font()?;
     let mut doc = String::new();
     {
-        let root = SVGBackend::with_string(&mut doc, SIZE).into_drawing_area();
-        draw(&root, rows, variants).map_err(|e| anyhow!("{}: {e}", svg.display()))?;
+        let root = SVGBackend::with_string(&mut doc, size).into_drawing_area();
+        draw_svg(&root).map_err(|e| anyhow!("{}: {e}", svg.display()))?;
         root.present().map_err(|e| anyhow!("{}: {e}", svg.display()))?;
     }
-    let (w, h) = SIZE;
+    let (w, h) = size;
     let mut rgb = vec![255u8; w as usize * h as usize * 3];
     {
-        let root = BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area();
-        draw(&root, rows, variants).map_err(|e| anyhow!("{}: {e}", png.display()))?;
+        let root = BitMapBackend::with_buffer(&mut rgb, size).into_drawing_area();
+        draw_png(&root).map_err(|e| anyhow!("{}: {e}", png.display()))?;
         root.present().map_err(|e| anyhow!("{}: {e}", png.display()))?;
     }
     let mut image = Vec::new();

@@ -16,7 +16,9 @@
 //! | wall, CPU | wall-clock and user + system time of a child process | s |
 //! | peak RSS | largest resident memory of a child process | MiB |
 
+pub mod ccx;
 pub mod chart;
+pub mod csv_io;
 pub mod errors;
 pub mod measure;
 pub mod pareto;

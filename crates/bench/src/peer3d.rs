@@ -26,20 +26,20 @@
 //!   number as axijoint's k.
 //! - Load: consistent nodal forces of the beam-theory tractions on the pile
 //!   end ([`load`]); symmetry u_y = 0 on y = 0; r = 3 fixed.
-//! - ccx runs with OMP_NUM_THREADS = CCX_NPROC_EQUATION_SOLVER = 2.
+//! - ccx runs with OMP_NUM_THREADS = CCX_NPROC_EQUATION_SOLVER = 2
+//!   ([`crate::ccx::run_ccx`]).
 
 pub mod deck;
 pub mod frd;
 pub mod load;
 pub mod model;
 
-use crate::measure::run_measured;
+use crate::ccx::{equations, prepare, run_ccx, run_gmsh, tail};
 use crate::profile::{Profile, Sample};
 use anyhow::{bail, Context, Result};
 use model::Model3d;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 use std::time::Instant;
 
 /// How the pile side is modelled.
@@ -153,36 +153,13 @@ pub fn run(variant: PeerVariant, opts: &PeerOptions) -> Result<PeerRun> {
 
 /// Meshes with gmsh into `work_dir/peer_<size>.msh`; returns the wall time.
 pub fn mesh(opts: &PeerOptions, msh: &Path) -> Result<f64> {
-    let geo = geo_path();
-    let m = run_measured(
-        Command::new(&opts.gmsh)
-            .arg(&geo)
-            .args(["-3", "-format", "msh41", "-nopopup", "-setnumber", "size"])
-            .arg(format!("{}", opts.size))
-            .arg("-o")
-            .arg(msh),
-    )
-    .with_context(|| format!("gmsh meshing {} (size {})", geo.display(), opts.size))?;
-    let errors: Vec<&str> = m
-        .stdout
-        .lines()
-        .chain(m.stderr.lines())
-        .filter(|l| l.contains("Error"))
-        .collect();
-    if !errors.is_empty() || !msh.exists() {
-        bail!("gmsh meshing {} failed:\n{}", geo.display(), errors.join("\n"));
-    }
-    Ok(m.wall_seconds)
+    run_gmsh(&opts.gmsh, &geo_path(), &[("size", opts.size)], msh)
 }
 
 /// [`run`], also returning the reactions and the contact state.
 pub fn run_detailed(variant: PeerVariant, opts: &PeerOptions) -> Result<(PeerRun, PeerDetails)> {
     let start = Instant::now();
-    if !(opts.size > 0.0 && opts.size.is_finite()) {
-        bail!("peer3d: size must be positive, got {}", opts.size);
-    }
-    std::fs::create_dir_all(&opts.work_dir)
-        .with_context(|| format!("creating work directory {}", opts.work_dir.display()))?;
+    prepare("peer3d", opts.size, &opts.work_dir)?;
     let job = format!("peer_{}_{}", variant.name(), opts.size).replace('.', "p");
     let msh = opts.work_dir.join(format!("{job}.msh"));
     let mesh_seconds = mesh(opts, &msh)?;
@@ -192,18 +169,7 @@ pub fn run_detailed(variant: PeerVariant, opts: &PeerOptions) -> Result<(PeerRun
     std::fs::write(&inp, deck::write_deck(&model, &end, variant))
         .with_context(|| format!("writing deck {}", inp.display()))?;
     let log = opts.work_dir.join(format!("{job}.log"));
-    // `exec` keeps the pid, so wait4 measures ccx itself; its output goes
-    // to the log (ccx reports errors on stdout).
-    let measured = run_measured(
-        Command::new("sh")
-            .args(["-c", "exec \"$0\" -i \"$1\" > \"$1.log\" 2>&1"])
-            .arg(&opts.ccx)
-            .arg(&job)
-            .current_dir(&opts.work_dir)
-            .env("OMP_NUM_THREADS", "2")
-            .env("CCX_NPROC_EQUATION_SOLVER", "2"),
-    );
-    let log_text = std::fs::read_to_string(&log).unwrap_or_default();
+    let (measured, log_text) = run_ccx(&opts.ccx, &job, &opts.work_dir);
     let ccx_errors = || {
         let lines: Vec<&str> = log_text
             .lines()
@@ -211,8 +177,7 @@ pub fn run_detailed(variant: PeerVariant, opts: &PeerOptions) -> Result<(PeerRun
             .take(10)
             .collect();
         if lines.is_empty() {
-            let tail: Vec<&str> = log_text.lines().rev().take(10).collect();
-            tail.into_iter().rev().collect::<Vec<_>>().join("\n")
+            tail(&log_text, 10)
         } else {
             lines.join("\n")
         }
@@ -229,12 +194,7 @@ pub fn run_detailed(variant: PeerVariant, opts: &PeerOptions) -> Result<(PeerRun
             ccx_errors()
         );
     }
-    let dofs = log_text
-        .lines()
-        .skip_while(|l| !l.contains("number of equations"))
-        .nth(1)
-        .and_then(|l| l.trim().parse::<usize>().ok())
-        .unwrap_or(3 * model.n_nodes());
+    let dofs = equations(&log_text).unwrap_or(3 * model.n_nodes());
     let sta = opts.work_dir.join(format!("{job}.sta"));
     let (increments, iterations) = read_sta(&sta)?;
     let frd = opts.work_dir.join(format!("{job}.frd"));
@@ -282,15 +242,7 @@ pub fn run_detailed(variant: PeerVariant, opts: &PeerOptions) -> Result<(PeerRun
 /// Completed increments and total iterations from a ccx `.sta` file.
 fn read_sta(path: &Path) -> Result<(usize, usize)> {
     let text = std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
-    let mut inc = 0;
-    let mut its = 0;
-    for line in text.lines() {
-        let f: Vec<&str> = line.split_whitespace().collect();
-        if f.len() >= 4 && f[..4].iter().all(|x| x.parse::<usize>().is_ok()) {
-            inc += 1;
-            its += f[3].parse::<usize>().unwrap_or(0);
-        }
-    }
+    let (inc, its) = crate::ccx::read_sta(&text);
     if inc == 0 {
         bail!("{}: no completed increment", path.display());
     }

@@ -19,6 +19,8 @@ pub use accuracy::{
     Ratio, Reference,
 };
 
+pub use crate::csv_io::{read_rows, write_rows};
+
 use crate::measure::run_measured;
 use crate::plastic_peer::{self, deck::DeckParams, CurvePoint, PlasticPeerOptions};
 use crate::sweep::machine_busy_seconds;
@@ -313,27 +315,6 @@ pub fn run_peer(cfg: &PlasticConfig, size: f64) -> (PlasticRow, Vec<CurvePoint>)
             (row, Vec::new())
         }
     }
-}
-
-/// Writes `rows` as CSV to `path` atomically.
-pub fn write_rows<T: Serialize>(path: &Path, rows: &[T]) -> Result<()> {
-    axijoint_mesh::atomic::write(path, |out| {
-        let mut w = csv::Writer::from_writer(out);
-        for r in rows {
-            w.serialize(r)?;
-        }
-        w.flush()
-    })
-    .with_context(|| format!("cannot write {}", path.display()))
-}
-
-/// Reads rows written by [`write_rows`].
-pub fn read_rows<T: for<'de> Deserialize<'de>>(path: &Path) -> Result<Vec<T>> {
-    let mut r = csv::Reader::from_path(path).with_context(|| format!("cannot read {}", path.display()))?;
-    r.deserialize()
-        .enumerate()
-        .map(|(i, row)| row.with_context(|| format!("{}: row {}", path.display(), i + 1)))
-        .collect()
 }
 
 /// The curve rows of one run.

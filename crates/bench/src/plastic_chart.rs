@@ -3,9 +3,9 @@
 //! orange, von_mises blue) and the CalculiX peer (triangles, green), the
 //! finer meshes darker, and the reference at 0.1 D (grey).
 
-use crate::chart::{ensure_font, FONT};
+use crate::chart::{write_svg_png, FONT};
 use crate::plastic_bench::{reference, CurveRow, PlasticRow};
-use anyhow::{anyhow, Context, Result};
+use anyhow::Result;
 use plotters::prelude::*;
 use std::path::Path;
 
@@ -26,34 +26,13 @@ fn color(code: &str, law: &str) -> RGBColor {
 /// Draws the curves of the successful runs of `rows` into `svg` and a PNG
 /// copy beside it (same name, `.png`).
 pub fn write_chart(rows: &[PlasticRow], curves: &[CurveRow], svg: &Path) -> Result<()> {
-    ensure_font()?;
-    let png = svg.with_extension("png");
-    let mut doc = String::new();
-    {
-        let root = SVGBackend::with_string(&mut doc, SIZE).into_drawing_area();
-        draw(&root, rows, curves).map_err(|e| anyhow!("{}: {e}", svg.display()))?;
-        root.present().map_err(|e| anyhow!("{}: {e}", svg.display()))?;
-    }
-    let (w, h) = SIZE;
-    let mut rgb = vec![255u8; w as usize * h as usize * 3];
-    {
-        let root = BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area();
-        draw(&root, rows, curves).map_err(|e| anyhow!("{}: {e}", png.display()))?;
-        root.present().map_err(|e| anyhow!("{}: {e}", png.display()))?;
-    }
-    let mut image = Vec::new();
-    {
-        let mut enc = png::Encoder::new(&mut image, w, h);
-        enc.set_color(png::ColorType::Rgb);
-        enc.set_depth(png::BitDepth::Eight);
-        let mut writer = enc.write_header()?;
-        writer.write_image_data(&rgb)?;
-        writer.finish()?;
-    }
-    axijoint_mesh::atomic::write_bytes(svg, doc.as_bytes())
-        .with_context(|| format!("cannot write {}", svg.display()))?;
-    axijoint_mesh::atomic::write_bytes(&png, &image)
-        .with_context(|| format!("cannot write {}", png.display()))
+    write_svg_png(
+        SIZE,
+        svg,
+        &svg.with_extension("png"),
+        |root| draw(root, rows, curves),
+        |root| draw(root, rows, curves),
+    )
 }
 
 fn draw<DB: DrawingBackend>(

@@ -20,18 +20,18 @@
 //! - The head (pile nodes at z = 0) moved 0.12 m (0.1 D) in x, u_y = 0,
 //!   u_z free: axijoint's motion held in r and theta.
 //! - The reaction is the half model's: [`PlasticPeerRun`] doubles it.
-//! - ccx runs with OMP_NUM_THREADS = CCX_NPROC_EQUATION_SOLVER = 2.
+//! - ccx runs with OMP_NUM_THREADS = CCX_NPROC_EQUATION_SOLVER = 2
+//!   ([`crate::ccx::run_ccx`]).
 
 pub mod dat;
 pub mod deck;
 pub mod model;
 
-use crate::measure::run_measured;
+use crate::ccx::{equations, prepare, run_ccx, run_gmsh, tail};
 use anyhow::{bail, Context, Result};
 use deck::DeckParams;
 use model::HexModel;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 use std::time::Instant;
 
 /// Where and with what the peer runs.
@@ -105,28 +105,12 @@ pub fn geo_path() -> PathBuf {
 
 /// Meshes with gmsh into `msh`; returns the wall time.
 pub fn mesh(opts: &PlasticPeerOptions, msh: &Path) -> Result<f64> {
-    let geo = geo_path();
-    let m = run_measured(
-        Command::new(&opts.gmsh)
-            .arg(&geo)
-            .args(["-3", "-format", "msh41", "-nopopup", "-setnumber", "h"])
-            .arg(format!("{}", opts.size))
-            .args(["-setnumber", "q"])
-            .arg(format!("{}", opts.growth))
-            .arg("-o")
-            .arg(msh),
+    run_gmsh(
+        &opts.gmsh,
+        &geo_path(),
+        &[("h", opts.size), ("q", opts.growth)],
+        msh,
     )
-    .with_context(|| format!("gmsh meshing {} (h {})", geo.display(), opts.size))?;
-    let errors: Vec<&str> = m
-        .stdout
-        .lines()
-        .chain(m.stderr.lines())
-        .filter(|l| l.contains("Error"))
-        .collect();
-    if !errors.is_empty() || !msh.exists() {
-        bail!("gmsh meshing {} failed:\n{}", geo.display(), errors.join("\n"));
-    }
-    Ok(m.wall_seconds)
 }
 
 /// The job name of a run of size `size` (also the file stem in `work_dir`).
@@ -142,11 +126,7 @@ pub fn job_name(opts: &PlasticPeerOptions) -> String {
 /// Meshes, writes the deck, runs ccx and reads the curve.
 pub fn run(opts: &PlasticPeerOptions) -> Result<PlasticPeerRun> {
     let start = Instant::now();
-    if !(opts.size > 0.0 && opts.size.is_finite()) {
-        bail!("plastic peer: size must be positive, got {}", opts.size);
-    }
-    std::fs::create_dir_all(&opts.work_dir)
-        .with_context(|| format!("creating work directory {}", opts.work_dir.display()))?;
+    prepare("plastic peer", opts.size, &opts.work_dir)?;
     let job = job_name(opts);
     let msh = opts.work_dir.join(format!("{job}.msh"));
     let mesh_seconds = mesh(opts, &msh)?;
@@ -155,31 +135,13 @@ pub fn run(opts: &PlasticPeerOptions) -> Result<PlasticPeerRun> {
     std::fs::write(&inp, deck::write_deck(&model, &opts.deck))
         .with_context(|| format!("writing deck {}", inp.display()))?;
     let log = opts.work_dir.join(format!("{job}.log"));
-    // `exec` keeps the pid, so wait4 measures ccx itself.
-    let measured = run_measured(
-        Command::new("sh")
-            .args(["-c", "exec \"$0\" -i \"$1\" > \"$1.log\" 2>&1"])
-            .arg(&opts.ccx)
-            .arg(&job)
-            .current_dir(&opts.work_dir)
-            .env("OMP_NUM_THREADS", "2")
-            .env("CCX_NPROC_EQUATION_SOLVER", "2"),
-    );
-    let log_text = std::fs::read_to_string(&log).unwrap_or_default();
-    let tail = || {
-        let t: Vec<&str> = log_text.lines().rev().take(12).collect();
-        t.into_iter().rev().collect::<Vec<_>>().join("\n")
-    };
+    let (measured, log_text) = run_ccx(&opts.ccx, &job, &opts.work_dir);
+    let log_tail = || tail(&log_text, 12);
     let measured = match measured {
         Ok(m) => m,
-        Err(e) => bail!("ccx on {} failed: {e:#}\n{}", inp.display(), tail()),
+        Err(e) => bail!("ccx on {} failed: {e:#}\n{}", inp.display(), log_tail()),
     };
-    let dofs = log_text
-        .lines()
-        .skip_while(|l| !l.contains("number of equations"))
-        .nth(1)
-        .and_then(|l| l.trim().parse::<usize>().ok())
-        .unwrap_or(3 * model.n_nodes());
+    let dofs = equations(&log_text).unwrap_or(3 * model.n_nodes());
     let sta = opts.work_dir.join(format!("{job}.sta"));
     let (increments, iterations) = dat::read_sta(&std::fs::read_to_string(&sta).unwrap_or_default());
     let dat_path = opts.work_dir.join(format!("{job}.dat"));
@@ -191,7 +153,7 @@ pub fn run(opts: &PlasticPeerOptions) -> Result<PlasticPeerRun> {
             "ccx on {}: no increment converged (see {}):\n{}",
             inp.display(),
             log.display(),
-            tail()
+            log_tail()
         );
     }
     let mut curve = vec![CurvePoint {

@@ -7,7 +7,7 @@
 
 use crate::pareto::{cost_at_error, front};
 use crate::sweep::Row;
-use anyhow::{Context, Result};
+use anyhow::Result;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -152,14 +152,7 @@ pub fn summarize(rows: &[Row]) -> Vec<SummaryRow> {
 
 /// Writes the summary CSV atomically.
 pub fn write_summary_csv(path: &Path, rows: &[SummaryRow]) -> Result<()> {
-    axijoint_mesh::atomic::write(path, |out| {
-        let mut w = csv::Writer::from_writer(out);
-        for r in rows {
-            w.serialize(r)?;
-        }
-        w.flush()
-    })
-    .with_context(|| format!("cannot write {}", path.display()))
+    crate::csv_io::write_rows(path, rows)
 }
 
 /// The summary as a console table.

@@ -188,23 +188,12 @@ impl Row {
 
 /// Writes the rows to `path` atomically (a temporary file beside it, renamed).
 pub fn write_csv(path: &Path, rows: &[Row]) -> Result<()> {
-    axijoint_mesh::atomic::write(path, |out| {
-        let mut w = csv::Writer::from_writer(out);
-        for r in rows {
-            w.serialize(r)?;
-        }
-        w.flush()
-    })
-    .with_context(|| format!("cannot write {}", path.display()))
+    crate::csv_io::write_rows(path, rows)
 }
 
 /// Reads rows written by [`write_csv`].
 pub fn read_csv(path: &Path) -> Result<Vec<Row>> {
-    let mut r = csv::Reader::from_path(path).with_context(|| format!("cannot read {}", path.display()))?;
-    r.deserialize()
-        .enumerate()
-        .map(|(i, row)| row.with_context(|| format!("{}: row {}", path.display(), i + 1)))
-        .collect()
+    crate::csv_io::read_rows(path)
 }
 
 /// Writes the per-run scene of `variant` with `method` and `epsilon` into

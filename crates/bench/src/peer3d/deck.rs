@@ -3,6 +3,7 @@
 use super::load::EndLoad;
 use super::model::{Body, Model3d};
 use super::PeerVariant;
+use crate::ccx::deck::{write_elements, write_nodes, write_nset};
 use std::fmt::Write as _;
 
 /// Young's modulus of pile and footing (MPa).
@@ -25,27 +26,9 @@ pub fn write_deck(model: &Model3d, load: &EndLoad, variant: PeerVariant) -> Stri
         "** axijoint bench: Scene P, full-3D half model (y >= 0), variant {}",
         variant.name()
     );
-    s.push_str("*NODE, NSET=NALL\n");
-    for (i, p) in model.coords.iter().enumerate() {
-        let _ = writeln!(s, "{}, {:.12e}, {:.12e}, {:.12e}", i + 1, p[0], p[1], p[2]);
-    }
+    write_nodes(&mut s, &model.coords);
     for (body, set) in [(Body::Pile, "PILE"), (Body::Footing, "FOOTING")] {
-        let _ = writeln!(s, "*ELEMENT, TYPE=C3D10, ELSET={set}");
-        for (e, t) in model.tets.iter().enumerate() {
-            if model.body[e] == body {
-                let _ = write!(s, "{}", e + 1);
-                for (k, n) in t.iter().enumerate() {
-                    // at most 16 entries per line
-                    if k == 9 {
-                        s.push_str(",\n");
-                        let _ = write!(s, "{}", n + 1);
-                    } else {
-                        let _ = write!(s, ", {}", n + 1);
-                    }
-                }
-                s.push('\n');
-            }
-        }
+        write_elements(&mut s, ("C3D10", set), &model.tets, &model.body, body, 9);
     }
     let sym = model.symmetry_nodes();
     write_nset(&mut s, "SYM", &sym);
@@ -109,14 +92,6 @@ pub fn write_deck(model: &Model3d, load: &EndLoad, variant: PeerVariant) -> Stri
     }
     s.push_str("*END STEP\n");
     s
-}
-
-fn write_nset(s: &mut String, name: &str, nodes: &[usize]) {
-    let _ = writeln!(s, "*NSET, NSET={name}");
-    for chunk in nodes.chunks(10) {
-        let line: Vec<String> = chunk.iter().map(|n| (n + 1).to_string()).collect();
-        let _ = writeln!(s, "{},", line.join(", "));
-    }
 }
 
 fn write_surface(s: &mut String, name: &str, faces: &[(usize, usize)]) {

@@ -3,6 +3,7 @@
 //! the joint made by duplicating the nodes of the pile side, and the node
 //! and face sets the deck needs.
 
+use crate::ccx::msh::{check_mid_edges, read_volumes};
 use anyhow::{bail, Context, Result};
 use std::collections::HashMap;
 use std::path::Path;
@@ -61,75 +62,38 @@ pub struct Model3d {
 impl Model3d {
     /// Reads a gmsh MSH 4.1 file of geo/pile_footing_3d.geo (order 2).
     pub fn from_msh(path: &Path) -> Result<Model3d> {
-        let bytes = std::fs::read(path).with_context(|| format!("reading mesh {}", path.display()))?;
-        let msh = axijoint_mesh::parse_msh(&bytes, path)
-            .with_context(|| format!("parsing mesh {}", path.display()))?;
-        let mut phys: HashMap<i32, Body> = HashMap::new();
-        for p in &msh.physical_names {
-            if p.dim == 3 {
-                match p.name.as_str() {
-                    "pile" => phys.insert(p.tag, Body::Pile),
-                    "footing" => phys.insert(p.tag, Body::Footing),
-                    _ => None,
-                };
-            }
-        }
-        if phys.len() != 2 {
-            bail!(
-                "{}: expected physical volumes \"pile\" and \"footing\"",
-                path.display()
-            );
-        }
-        let index: HashMap<u64, usize> = msh.nodes.iter().enumerate().map(|(i, (t, _))| (*t, i)).collect();
-        let mut used = vec![usize::MAX; msh.nodes.len()];
-        let mut coords = Vec::new();
-        let mut tets = Vec::new();
-        let mut body = Vec::new();
-        for e in &msh.elements {
-            if e.entity_dim != 3 {
-                continue;
-            }
-            if e.gmsh_type != axijoint_mesh::msh::element_type::TET10 {
-                bail!(
-                    "{}: volume element {} has gmsh type {}, expected 11 (10-node tetrahedron; mesh with order 2)",
-                    path.display(),
-                    e.tag,
-                    e.gmsh_type
-                );
-            }
-            let b = e
-                .physical_tags
-                .iter()
-                .find_map(|t| phys.get(t))
-                .with_context(|| format!("{}: element {} in no physical volume", path.display(), e.tag))?;
-            if e.nodes.len() != 10 {
-                bail!(
-                    "{}: element {} has {} nodes, expected 10",
-                    path.display(),
-                    e.tag,
-                    e.nodes.len()
-                );
-            }
-            let mut conn = [0usize; 10];
-            for (k, tag) in e.nodes.iter().enumerate() {
-                let i = *index.get(tag).with_context(|| {
-                    format!("{}: element {} uses unknown node {tag}", path.display(), e.tag)
-                })?;
-                if used[i] == usize::MAX {
-                    used[i] = coords.len();
-                    coords.push(msh.nodes[i].1);
+        let v = read_volumes(
+            path,
+            [("pile", Body::Pile), ("footing", Body::Footing)],
+            std::array::from_fn(|k| k),
+            |e| {
+                if e.gmsh_type != axijoint_mesh::msh::element_type::TET10 {
+                    bail!(
+                        "{}: volume element {} has gmsh type {}, expected 11 (10-node tetrahedron; mesh with order 2)",
+                        path.display(),
+                        e.tag,
+                        e.gmsh_type
+                    );
                 }
-                conn[k] = used[i];
-            }
+                if e.nodes.len() != 10 {
+                    bail!(
+                        "{}: element {} has {} nodes, expected 10",
+                        path.display(),
+                        e.tag,
+                        e.nodes.len()
+                    );
+                }
+                Ok(())
+            },
+            "tetrahedra",
+        )?;
+        let mut tets = v.elements;
+        for conn in &mut tets {
             // gmsh tet10 edge nodes: 4 (0,1), 5 (1,2), 6 (2,0), 7 (3,0),
             // 8 (3,2), 9 (3,1); CalculiX: ..., 8 (1,3), 9 (2,3).
             conn.swap(8, 9);
-            tets.push(conn);
-            body.push(*b);
         }
-        if tets.is_empty() {
-            bail!("{}: no tetrahedra", path.display());
-        }
+        let (coords, body) = (v.coords, v.body);
         let mut m = Model3d {
             coords,
             tets,
@@ -151,20 +115,7 @@ impl Model3d {
     /// corners and the centroid (so the node order is CalculiX's).
     pub fn check_elements(&self) -> Result<()> {
         for (e, t) in self.tets.iter().enumerate() {
-            for (k, &(i, j)) in TET_EDGES.iter().enumerate() {
-                let (p, q, m) = (self.coords[t[i]], self.coords[t[j]], self.coords[t[4 + k]]);
-                let len = dist(p, q);
-                let mid = [(p[0] + q[0]) / 2.0, (p[1] + q[1]) / 2.0, (p[2] + q[2]) / 2.0];
-                if dist(mid, m) > 0.25 * len {
-                    bail!(
-                        "element {}: node {} is not the middle of edge {}-{}",
-                        e + 1,
-                        t[4 + k] + 1,
-                        t[i] + 1,
-                        t[j] + 1
-                    );
-                }
-            }
+            check_mid_edges(&self.coords, e, t, &TET_EDGES, 4)?;
             let x: Vec<[f64; 3]> = t.iter().map(|&n| self.coords[n]).collect();
             for xi in [
                 [0.0, 0.0, 0.0],
@@ -316,10 +267,6 @@ impl Model3d {
 /// sqrt(x^2 + y^2).
 pub fn radius(p: [f64; 3]) -> f64 {
     p[0].hypot(p[1])
-}
-
-fn dist(p: [f64; 3], q: [f64; 3]) -> f64 {
-    ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt()
 }
 
 /// Jacobian determinant of a C3D10 (CalculiX order) at natural coordinates

@@ -4,6 +4,8 @@
 
 use anyhow::{bail, Result};
 
+pub use crate::ccx::read_sta;
+
 /// One increment's total reaction of a node set.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Total {
@@ -37,20 +39,4 @@ pub fn read_totals(text: &str, set: &str) -> Result<Vec<Total>> {
         }
     }
     Ok(out)
-}
-
-/// Completed increments and total iterations from `.sta` text (each line of
-/// a completed increment starts with four integers: step, increment,
-/// attempts, iterations).
-pub fn read_sta(text: &str) -> (usize, usize) {
-    let mut inc = 0;
-    let mut its = 0;
-    for line in text.lines() {
-        let f: Vec<&str> = line.split_whitespace().collect();
-        if f.len() >= 4 && f[..4].iter().all(|x| x.parse::<usize>().is_ok()) {
-            inc += 1;
-            its += f[3].parse::<usize>().unwrap_or(0);
-        }
-    }
-    (inc, its)
 }

@@ -1,6 +1,7 @@
 //! The CalculiX input deck (.inp) of the pile in clay.
 
 use super::model::{Body, HexModel};
+use crate::ccx::deck::{write_elements, write_nodes, write_nset};
 use std::fmt::Write as _;
 
 /// Young's modulus of the pile (MPa).
@@ -58,28 +59,9 @@ pub fn write_deck(model: &HexModel, p: &DeckParams) -> String {
         s,
         "** axijoint bench: the tutorial's pile in clay, full-3D half model (y >= 0)"
     );
-    s.push_str("*NODE, NSET=NALL\n");
-    for (i, x) in model.coords.iter().enumerate() {
-        let _ = writeln!(s, "{}, {:.12e}, {:.12e}, {:.12e}", i + 1, x[0], x[1], x[2]);
-    }
+    write_nodes(&mut s, &model.coords);
     for (body, set) in [(Body::Pile, "PILE"), (Body::Soil, "SOIL")] {
-        let _ = writeln!(s, "*ELEMENT, TYPE=C3D20R, ELSET={set}");
-        for (e, t) in model.hexes.iter().enumerate() {
-            if model.body[e] != body {
-                continue;
-            }
-            let _ = write!(s, "{}", e + 1);
-            for (k, n) in t.iter().enumerate() {
-                // at most 16 entries per line
-                if k == 15 {
-                    s.push_str(",\n");
-                    let _ = write!(s, "{}", n + 1);
-                } else {
-                    let _ = write!(s, ", {}", n + 1);
-                }
-            }
-            s.push('\n');
-        }
+        write_elements(&mut s, ("C3D20R", set), &model.hexes, &model.body, body, 15);
     }
     write_nset(&mut s, "HEAD", &model.head_nodes());
     write_nset(&mut s, "SYM", &model.symmetry_nodes());
@@ -105,12 +87,4 @@ pub fn write_deck(model: &HexModel, p: &DeckParams) -> String {
     s.push_str("*NODE PRINT, NSET=HEAD, TOTALS=ONLY\nRF\n");
     s.push_str("*END STEP\n");
     s
-}
-
-fn write_nset(s: &mut String, name: &str, nodes: &[usize]) {
-    let _ = writeln!(s, "*NSET, NSET={name}");
-    for chunk in nodes.chunks(10) {
-        let line: Vec<String> = chunk.iter().map(|n| (n + 1).to_string()).collect();
-        let _ = writeln!(s, "{},", line.join(", "));
-    }
 }

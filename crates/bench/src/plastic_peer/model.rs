@@ -2,8 +2,8 @@
 //! of geo/pile_clay_3d.geo: 20-node hexahedra in CalculiX node order and
 //! the node sets the deck needs, found from the coordinates.
 
+use crate::ccx::msh::{check_mid_edges, read_volumes};
 use anyhow::{bail, Context, Result};
-use std::collections::HashMap;
 use std::path::Path;
 
 /// Pile radius a (m).
@@ -68,68 +68,30 @@ impl HexModel {
     /// Reads a gmsh MSH 4.1 file of geo/pile_clay_3d.geo (order 2,
     /// incomplete: 20-node hexahedra).
     pub fn from_msh(path: &Path) -> Result<HexModel> {
-        let bytes = std::fs::read(path).with_context(|| format!("reading mesh {}", path.display()))?;
-        let msh = axijoint_mesh::parse_msh(&bytes, path)
-            .with_context(|| format!("parsing mesh {}", path.display()))?;
-        let mut phys: HashMap<i32, Body> = HashMap::new();
-        for p in &msh.physical_names {
-            if p.dim == 3 {
-                match p.name.as_str() {
-                    "pile" => phys.insert(p.tag, Body::Pile),
-                    "soil" => phys.insert(p.tag, Body::Soil),
-                    _ => None,
-                };
-            }
-        }
-        if phys.len() != 2 {
-            bail!(
-                "{}: expected physical volumes \"pile\" and \"soil\"",
-                path.display()
-            );
-        }
-        let index: HashMap<u64, usize> = msh.nodes.iter().enumerate().map(|(i, (t, _))| (*t, i)).collect();
-        let mut used = vec![usize::MAX; msh.nodes.len()];
-        let mut coords = Vec::new();
-        let mut hexes = Vec::new();
-        let mut body = Vec::new();
-        for e in &msh.elements {
-            if e.entity_dim != 3 {
-                continue;
-            }
-            if e.gmsh_type != GMSH_HEX20 || e.nodes.len() != 20 {
-                bail!(
-                    "{}: volume element {} has gmsh type {} ({} nodes), expected 17 (20-node hexahedron; \
-                     mesh with order 2, SecondOrderIncomplete)",
-                    path.display(),
-                    e.tag,
-                    e.gmsh_type,
-                    e.nodes.len()
-                );
-            }
-            let b = e
-                .physical_tags
-                .iter()
-                .find_map(|t| phys.get(t))
-                .with_context(|| format!("{}: element {} in no physical volume", path.display(), e.tag))?;
-            let mut conn = [0usize; 20];
-            for (k, g) in GMSH_TO_CCX.iter().enumerate() {
-                let tag = e.nodes[*g];
-                let i = *index.get(&tag).with_context(|| {
-                    format!("{}: element {} uses unknown node {tag}", path.display(), e.tag)
-                })?;
-                if used[i] == usize::MAX {
-                    used[i] = coords.len();
-                    coords.push(msh.nodes[i].1);
+        let v = read_volumes(
+            path,
+            [("pile", Body::Pile), ("soil", Body::Soil)],
+            GMSH_TO_CCX,
+            |e| {
+                if e.gmsh_type != GMSH_HEX20 || e.nodes.len() != 20 {
+                    bail!(
+                        "{}: volume element {} has gmsh type {} ({} nodes), expected 17 (20-node hexahedron; \
+                         mesh with order 2, SecondOrderIncomplete)",
+                        path.display(),
+                        e.tag,
+                        e.gmsh_type,
+                        e.nodes.len()
+                    );
                 }
-                conn[k] = used[i];
-            }
-            hexes.push(conn);
-            body.push(*b);
-        }
-        if hexes.is_empty() {
-            bail!("{}: no hexahedra", path.display());
-        }
-        let mut m = HexModel { coords, hexes, body };
+                Ok(())
+            },
+            "hexahedra",
+        )?;
+        let mut m = HexModel {
+            coords: v.coords,
+            hexes: v.elements,
+            body: v.body,
+        };
         m.orient()
             .with_context(|| format!("checking the hexahedra of {}", path.display()))?;
         Ok(m)
@@ -142,19 +104,7 @@ impl HexModel {
     pub fn orient(&mut self) -> Result<()> {
         for e in 0..self.hexes.len() {
             let t = self.hexes[e];
-            for (k, &(i, j)) in HEX_EDGES.iter().enumerate() {
-                let (p, q, m) = (self.coords[t[i]], self.coords[t[j]], self.coords[t[8 + k]]);
-                let mid = [(p[0] + q[0]) / 2.0, (p[1] + q[1]) / 2.0, (p[2] + q[2]) / 2.0];
-                if dist(mid, m) > 0.25 * dist(p, q) {
-                    bail!(
-                        "element {}: node {} is not the middle of edge {}-{}",
-                        e + 1,
-                        t[8 + k] + 1,
-                        t[i] + 1,
-                        t[j] + 1
-                    );
-                }
-            }
+            check_mid_edges(&self.coords, e, &t, &HEX_EDGES, 8)?;
             let corners: Vec<[f64; 3]> = t[..8].iter().map(|&n| self.coords[n]).collect();
             let d = hex8_det_j_centre(&corners);
             if d == 0.0 || !d.is_finite() {
@@ -241,10 +191,6 @@ impl HexModel {
         }
         v
     }
-}
-
-fn dist(p: [f64; 3], q: [f64; 3]) -> f64 {
-    ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt()
 }
 
 /// Natural coordinates of the corners of a hexahedron (Abaqus order).
