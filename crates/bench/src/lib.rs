@@ -24,7 +24,6 @@ pub mod measure;
 pub mod pareto;
 pub mod peer3d;
 pub mod plastic_bench;
-pub mod plastic_chart;
 pub mod plastic_peer;
 pub mod profile;
 pub mod summary;

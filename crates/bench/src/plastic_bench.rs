@@ -13,6 +13,7 @@
 //! ratio is peer wall time / that run's.
 
 pub mod accuracy;
+pub mod chart;
 
 pub use accuracy::{
     extrapolate, extrapolated, format_summary, peer_two_point, ratios, reference, references, set_errors,
@@ -415,7 +416,7 @@ pub fn command(cfg: &PlasticConfig, out_dir: &Path, replot: Option<&Path>, keep_
         println!("wrote {}", curves_path.display());
     }
     let svg = out_dir.join("plastic_peer.svg");
-    crate::plastic_chart::write_chart(&rows, &curves, &svg)?;
+    chart::write_chart(&rows, &curves, &svg)?;
     println!("wrote {} and .png", svg.display());
     println!("\n{}", format_summary(&rows, "von_mises"));
     Ok(())

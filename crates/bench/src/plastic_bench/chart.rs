@@ -3,8 +3,8 @@
 //! orange, von_mises blue) and the CalculiX peer (triangles, green), the
 //! finer meshes darker, and the reference at 0.1 D (grey).
 
+use super::{reference, CurveRow, PlasticRow};
 use crate::chart::{write_svg_png, FONT};
-use crate::plastic_bench::{reference, CurveRow, PlasticRow};
 use anyhow::Result;
 use plotters::prelude::*;
 use std::path::Path;
