@@ -522,3 +522,82 @@ fn gmres_first_agrees_with_the_dense_lu_on_the_pile_in_soil() {
     assert_eq!(steps(&dense), steps(&gmres));
     assert!(diff <= 1e-6, "{diff:.2e}");
 }
+
+/// The watchdog (a whole Newton step where the line search crawls, with a
+/// return to the checkpoint) against the monotone line search alone, on
+/// the pile in soil (geo/pile_soil.json at M = 8, its combined head load,
+/// stepped) with Mohr-Coulomb joints ten times the rigid penalty (k h / E
+/// = 1e4): the same answer to 1e-6 of the largest amplitude (measured
+/// 3e-8) in the same load steps, in at most 0.7 times the Newton steps
+/// (measured 102 against 187: without it, points that have begun to slip
+/// turn their tractions by tens of degrees per Newton step and the line
+/// search keeps 1/64 of each step for 150 steps).
+#[test]
+fn the_watchdog_ends_the_crawl_of_a_stiff_joint() {
+    use axijoint_solver::iteration::{solve, StepControl, Stepping};
+    let path = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../geo/pile_soil.json");
+    let mut sc = Scene::from_path(&path).unwrap_or_else(|e| panic!("{e}"));
+    sc.harmonics = 8.into();
+    for j in sc.joints.values_mut() {
+        (j.k_xi, j.k_eta, j.k_theta) = (None, None, None);
+    }
+    // Ten times the rigid penalty of each joint.
+    let rigid = solve_linear(&sc, None, true).expect("linear run");
+    let model = &rigid.problem.model;
+    for (mj, m) in model.mesh.joints.iter().zip(&model.joints) {
+        let j = sc.joints.get_mut(&mj.name).expect("joint");
+        let k = 10.0 * m.springs.k_eta;
+        (j.k_xi, j.k_eta, j.k_theta) = (Some(k), Some(k), Some(k));
+    }
+    let lin = solve_linear(&sc, None, true).expect("linear run");
+    let model = &lin.problem.model;
+    let laws = laws(&sc, &model.mesh);
+    let sections = scene_sections(&sc, &lin.problem.model, &lin.loads).expect("sections");
+    let problem = axijoint_solver::iteration::Problem {
+        model,
+        factors: &lin.problem.factors,
+        loads: &lin.loads,
+        laws: &laws,
+        sections: &sections,
+        elastic: Some(&lin.displacements),
+        whole_up_to: None,
+        from: None,
+    };
+    let run = |watchdog: bool| {
+        let settings = IterationSettings {
+            method: Method::Newton,
+            watchdog,
+            ..IterationSettings::default()
+        };
+        let t = Instant::now();
+        let solved = solve(
+            &problem,
+            &settings,
+            None,
+            Stepping::Steps(StepControl::AUTO),
+            |_, _, _, _| (),
+            |_| {},
+        )
+        .unwrap_or_else(|e| panic!("watchdog {watchdog}: {e}"));
+        (solved, t.elapsed().as_secs_f64())
+    };
+    let ((plain, t_plain), (watched, t_watched)) = (run(false), run(true));
+    let steps = |s: &axijoint_solver::iteration::Solved<()>| s.stepped.as_ref().map_or(0, |p| p.steps.len());
+    let newton = |s: &axijoint_solver::iteration::Solved<()>| s.outcome.history.len();
+    let diff = relative_difference(&watched.outcome.displacements, &plain.outcome.displacements);
+    println!(
+        "line search alone {t_plain:.2} s, {} Newton steps in {} load steps; watchdog {t_watched:.2} s, {} in {}; difference {diff:.2e}",
+        newton(&plain),
+        steps(&plain),
+        newton(&watched),
+        steps(&watched)
+    );
+    assert_eq!(steps(&plain), steps(&watched));
+    assert!(diff <= 1e-6, "{diff:.2e}");
+    assert!(
+        newton(&watched) as f64 <= 0.7 * newton(&plain) as f64,
+        "{} against {} Newton steps",
+        newton(&watched),
+        newton(&plain)
+    );
+}

@@ -27,6 +27,17 @@ pub(super) const NEWTON_HALVINGS_STIFF: u32 = 10;
 /// bracket the exact factor, the sliding one in 715 solves instead of 2333.
 pub(super) const NEWTON_STALL_STIFF: u32 = 16;
 
+/// Line-search steps in a row at `lambda <= CRAWL_LAMBDA` after which the
+/// watchdog takes the whole Newton step ([`Formulation::watchdog`]).
+pub(super) const CRAWL_STEPS: u32 = 3;
+
+/// A step at most this long counts as a crawl.
+pub(super) const CRAWL_LAMBDA: f64 = 1.0 / 16.0;
+
+/// Steps after the watchdog's whole step (that one included) within which
+/// `|R|` must fall below the checkpoint's, else the run returns there.
+pub(super) const WATCH_STEPS: u32 = 5;
+
 /// What Newton iterates on: unknowns y, the section displacements
 /// `u_s = u_F + W G y` (G: the section forces of y, one sweep), the residual
 /// `R(y)` at given displacements (no sweep) and its generalized Jacobian
@@ -56,4 +67,9 @@ pub(super) trait Formulation {
     fn halvings(&self) -> u32;
     /// Steps without a new minimum of `|R|` (by 1 %) before no equilibrium.
     fn stall_window(&self) -> u32;
+    /// Whether a crawl of short line-search steps is broken by a whole
+    /// Newton step under a watchdog (see [`newton`](super::newton::newton)).
+    fn watchdog(&self) -> bool {
+        false
+    }
 }

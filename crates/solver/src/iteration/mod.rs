@@ -50,6 +50,7 @@
 
 mod attempt;
 mod body;
+mod dense_lu;
 mod diagnosis;
 mod entry;
 mod eval;
@@ -69,6 +70,7 @@ mod traction;
 mod transfer;
 mod types;
 mod vector;
+mod watchdog;
 
 pub use body::plastic_points;
 pub use entry::{solve, stress_transfer, Solved, Stepping};

@@ -9,13 +9,14 @@ use super::attempt::{Converged, Failure, Start};
 use super::body::SectionBasis;
 use super::diagnosis::{no_equilibrium, not_converged, unresolved};
 use super::eval::Eval;
-use super::formulation::{Formulation, NEWTON_HALVINGS};
+use super::formulation::{Formulation, NEWTON_HALVINGS, WATCH_STEPS};
 use super::release::Tangents;
 use super::sweep::Sweep;
 use super::traction::Traction;
 use super::transfer::JointAmplitudes;
 use super::types::{IterationError, IterationRecord, IterationSettings};
 use super::vector::{axpy, dot, norm};
+use super::watchdog::{Checkpoint, Verdict, Watchdog};
 use crate::fourier::{basis_derivative, Family};
 use crate::linear::HarmonicFactor;
 use rayon::prelude::*;
@@ -391,7 +392,7 @@ pub(super) fn newton(
 ) -> Result<Converged, Box<Failure>> {
     // (Plastic bodies are released as section forces: the nodal form.)
     if sweep.setup.softened() && sweep.setup.bodies.is_none() {
-        let mut form = Traction::new(*sweep, settings.coupled_max, settings.gmres_first);
+        let mut form = Traction::new(*sweep, settings);
         let y0 = form.start(&from);
         let from = Start {
             predicted: None,
@@ -459,24 +460,46 @@ impl Iterate {
     }
 
     /// (2) Backtracking on `|R|` along `delta` from `|R| = r_norm`, the
-    /// trial evaluations without a sweep; whether a trial was accepted.
-    fn line_search(&mut self, form: &dyn Formulation, r_norm: f64) -> bool {
+    /// trial evaluations without a sweep; the step accepted, if any.
+    fn line_search(&mut self, form: &dyn Formulation, r_norm: f64) -> Option<f64> {
         let mut lambda = 1.0;
         for _ in 0..=form.halvings() {
-            for ((t, a), d) in self.y_trial.iter_mut().zip(&self.y).zip(&self.delta) {
-                *t = a + lambda * d;
-            }
-            for ((t, a), w) in self.trial.u_s.iter_mut().zip(&self.acc.u_s).zip(&self.w_delta) {
-                *t = a + lambda * w;
-            }
-            self.trial.broken.copy_from_slice(&self.acc.broken);
-            form.residual(&self.y_trial, &mut self.trial, &mut self.res_trial);
+            self.trial_at(form, lambda);
             if norm(&self.res_trial) <= (1.0 - 1e-4 * lambda) * r_norm {
-                return true;
+                return Some(lambda);
             }
             lambda *= 0.5;
         }
-        false
+        None
+    }
+
+    /// The trial `y + lambda delta`, evaluated without a sweep.
+    fn trial_at(&mut self, form: &dyn Formulation, lambda: f64) {
+        for ((t, a), d) in self.y_trial.iter_mut().zip(&self.y).zip(&self.delta) {
+            *t = a + lambda * d;
+        }
+        for ((t, a), w) in self.trial.u_s.iter_mut().zip(&self.acc.u_s).zip(&self.w_delta) {
+            *t = a + lambda * w;
+        }
+        self.trial.broken.copy_from_slice(&self.acc.broken);
+        form.residual(&self.y_trial, &mut self.trial, &mut self.res_trial);
+    }
+
+    /// The iterate as a checkpoint (`|R| = r_norm`).
+    fn checkpoint(&self, r_norm: f64) -> Checkpoint {
+        Checkpoint {
+            y: self.y.clone(),
+            acc: self.acc.clone(),
+            res: self.res.clone(),
+            r_norm,
+        }
+    }
+
+    /// Back to a checkpoint.
+    fn restore(&mut self, c: Checkpoint) {
+        self.y = c.y;
+        self.acc = c.acc;
+        self.res = c.res;
     }
 
     /// (3) The plain step `y + R` as the trial, evaluated for real (one
@@ -557,6 +580,11 @@ impl Stall {
         }
     }
 
+    /// Lets `steps` more steps pass before a stall.
+    fn pause(&mut self, steps: u32) {
+        self.best_at += steps;
+    }
+
     /// Notes whether this step fell back to the plain step.
     fn fell_back(&mut self, yes: bool) {
         self.fallbacks.push_back(yes);
@@ -572,7 +600,7 @@ impl Stall {
             self.best = r_norm;
             self.best_at = step;
             None
-        } else if step - self.best_at >= self.window {
+        } else if step.saturating_sub(self.best_at) >= self.window {
             Some(format!(
                 "the Newton residual stalls at ratio {ratio:.3e} (|R| made no new minimum by 1 % in {} steps, {} of which fell back to the plain step: the joint tangent has (almost) no stiffness left along the unbalanced force, and the step the linearization asks for does not reduce the residual)",
                 self.window,
@@ -653,6 +681,7 @@ fn solve(
     let mut r_norm = norm(&it.res);
     let (mut r_prev, mut eta) = (r_norm, 0.5f64);
     let mut stall = Stall::new(r_norm, form.stall_window());
+    let mut watchdog = Watchdog::new(form.watchdog());
     let eta_floor = 0.5 * settings.epsilon * psi0;
     for step in 2..=settings.max_iterations {
         // (1) The Newton direction at y.
@@ -676,8 +705,17 @@ fn solve(
             &mut it.w_delta,
         );
 
-        // (2) Backtracking, else (3) the plain step.
-        let accepted = it.line_search(form, r_norm);
+        // (2) Backtracking, else (3) the plain step; or the whole step
+        // under the watchdog.
+        let accepted = if watchdog.relax() {
+            watchdog.watch(it.checkpoint(r_norm));
+            it.trial_at(form, 1.0);
+            true
+        } else {
+            let lambda = it.line_search(form, r_norm);
+            watchdog.note(lambda);
+            lambda.is_some()
+        };
         stall.fell_back(!accepted);
         let mut evaluated = !accepted;
         if !accepted {
@@ -687,6 +725,17 @@ fn solve(
         it.advance();
         r_prev = r_norm;
         r_norm = norm(&it.res);
+        if watchdog.watching() {
+            form.forces(&it.y, &mut it.x);
+            let bad = !r_norm.is_finite() || unresolved(setup, &it.x, psi0, settings.epsilon).is_some();
+            if let Verdict::Return(c) = watchdog.verdict(r_norm, bad) {
+                // The watched steps do not count towards a stall.
+                stall.pause(WATCH_STEPS);
+                r_norm = c.r_norm;
+                it.restore(*c);
+                evaluated = false;
+            }
+        }
         form.section_residual(&it.res, &mut it.rx);
         let mut ratio = setup.section_max(&it.rx) / psi0;
         if ratio < settings.epsilon && !evaluated {
@@ -707,7 +756,9 @@ fn solve(
             let e = no_equilibrium(setup, &it.rx, "the solution is not finite", record, history);
             return Err(it.fail(e));
         }
-        if let Some(reason) = unresolved(setup, &it.x, psi0, settings.epsilon) {
+        // (The watched steps wait for the watchdog's verdict.)
+        let watching = watchdog.watching();
+        if let Some(reason) = unresolved(setup, &it.x, psi0, settings.epsilon).filter(|_| !watching) {
             let e = no_equilibrium(setup, &it.rx, &reason, record, history);
             return Err(it.fail(e));
         }
@@ -715,7 +766,7 @@ fn solve(
             return Ok(it.converged(history));
         }
         // No equilibrium.
-        if let Some(reason) = stall.reason(step, r_norm, ratio) {
+        if let Some(reason) = stall.reason(step, r_norm, ratio).filter(|_| !watching) {
             let e = no_equilibrium(setup, &it.rx, &reason, record, history);
             return Err(it.fail(e));
         }

@@ -52,6 +52,7 @@
 //! cheap) and for a joint stiffer than [`GMRES_STIFFNESS`] (where the
 //! inexact solves cost Newton more steps than the dense LU costs).
 
+use super::dense_lu::DenseLu;
 use super::interface::Interface;
 use super::release::Tangent;
 use super::setup::Setup;
@@ -59,8 +60,8 @@ use super::transfer::JointAmplitudes;
 use super::vector::{dot, norm};
 use crate::elements::{add_traction_forces, relative_displacement};
 use crate::fourier::Family;
-use faer::linalg::solvers::{PartialPivLu, Solve};
-use faer::Mat;
+use faer::linalg::matmul::matmul;
+use faer::{Accum, MatRef, Par};
 use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
 use std::sync::Arc;
@@ -99,9 +100,13 @@ const FAMILIES: [Family; 2] = [Family::Symmetric, Family::Antisymmetric];
 pub(super) struct BlockPreconditioner {
     fixed: Arc<Interface>,
     dr: Vec<DMatrix<f64>>,
-    lu: Vec<Option<PartialPivLu<f64>>>,
+    /// Per group, the LU of `I - D_r Z_r` (kept buffers; see
+    /// [`DenseLu::ok`]).
+    lu: Vec<DenseLu>,
     /// The joint tangents of the last update (the coupled `D_r`).
     tangents: Vec<Tangent>,
+    /// Whether `dr` and `lu` are older than `tangents`.
+    stale: bool,
     /// The coupled system by its dense LU (from the first GMRES solve
     /// that did not converge, for the rest of the run; only when
     /// [`Interface::dense_allowed`]).
@@ -243,6 +248,7 @@ impl BlockPreconditioner {
             dr: Vec::new(),
             lu: Vec::new(),
             tangents: Vec::new(),
+            stale: false,
             dense: false,
         }
         .starting_dense(setup, gmres_first)
@@ -355,12 +361,8 @@ impl BlockPreconditioner {
         let apply_m = |x: &[f64], out: &mut [f64]| {
             out.copy_from_slice(x);
             for (i, lu) in self.lu.iter().enumerate() {
-                if let Some(lu) = lu {
-                    lu.solve_in_place(faer::MatMut::from_column_major_slice_mut(
-                        &mut out[i * nr..(i + 1) * nr],
-                        nr,
-                        1,
-                    ));
+                if lu.ok() {
+                    lu.solve_in_place(&mut out[i * nr..(i + 1) * nr], Par::Seq);
                 }
             }
         };
@@ -458,29 +460,51 @@ impl BlockPreconditioner {
         (w, converged)
     }
 
-    /// Forms `D_r` (the joint tangent `A D S` on the pairs' relative
-    /// displacements, coupled over each group) and factorizes
-    /// `I - D_r Z_r` of every group at the joint tangents `tangents`.
-    pub(super) fn update(&mut self, setup: &Setup, tangents: &[Tangent]) {
-        self.tangents = tangents.to_vec();
-        self.factorize(setup);
+    /// Takes the joint tangents `tangents`: `D_r` (the joint tangent
+    /// `A D S` on the pairs' relative displacements, coupled over each
+    /// group) and the LUs of `I - D_r Z_r` follow at the first
+    /// [`BlockPreconditioner::displacements`] (a Newton step whose kept
+    /// Krylov directions suffice needs none: in a stiff joint's crawl
+    /// most steps).
+    pub(super) fn update(&mut self, tangents: &[Tangent]) {
+        self.tangents.clear();
+        self.tangents.extend_from_slice(tangents);
+        self.stale = true;
     }
 
     /// Forms `D_r` and the LUs of every group at the tangents of the last
     /// [`BlockPreconditioner::update`].
     fn factorize(&mut self, setup: &Setup) {
+        self.stale = false;
         let n_p = setup.points.len();
         let sections = setup.sections();
         let fixed = &*self.fixed;
         let nr = 3 * fixed.pairs.len();
         let tangents = &self.tangents;
-        let (dr, lu): (Vec<_>, Vec<_>) = self
-            .groups()
+        let groups = self.groups();
+        // The buffers of the last factorization, where the groups are the same.
+        if self.dr.len() != groups.len() {
+            self.dr = groups.iter().map(|_| DMatrix::zeros(0, 0)).collect();
+            self.lu = groups.iter().map(|_| DenseLu::new()).collect();
+        }
+        // One group (the coupled system): faer's LU on every core.
+        let par = if groups.len() == 1 {
+            Par::rayon(0)
+        } else {
+            Par::Seq
+        };
+        groups
             .par_iter()
-            .map(|range| {
+            .zip(self.dr.par_iter_mut())
+            .zip(self.lu.par_iter_mut())
+            .for_each(|((range, dr), lu)| {
                 let group = &fixed.members[range.clone()];
                 let size = group.len() * nr;
-                let mut dr = DMatrix::<f64>::zeros(size, size);
+                if dr.nrows() == size {
+                    dr.fill(0.0);
+                } else {
+                    *dr = DMatrix::<f64>::zeros(size, size);
+                }
                 let mut c = vec![nalgebra::Matrix3::<f64>::zeros(); group.len() * group.len()];
                 // Phi = (a, a, b) of the group's members at section s.
                 let nm = fixed.members.len();
@@ -529,24 +553,25 @@ impl BlockPreconditioner {
                     }
                 }
                 // Q = I - D_r Z_r, Z_r block-diagonal over the group.
-                let mut q = Mat::<f64>::identity(size, size);
+                let mut q = lu.matrix(size);
+                q.fill(0.0);
+                q.as_mut().diagonal_mut().fill(1.0);
+                let d = MatRef::from_column_major_slice(dr.as_slice(), size, size);
                 for (j, &(h, _)) in group.iter().enumerate() {
-                    let dz = dr.columns(j * nr, nr) * &fixed.zr[h];
-                    for r in 0..size {
-                        for c in 0..nr {
-                            q[(r, j * nr + c)] -= dz[(r, c)];
-                        }
-                    }
+                    let z = &fixed.zr[h];
+                    matmul(
+                        q.as_mut().subcols_mut(j * nr, nr),
+                        Accum::Add,
+                        d.subcols(j * nr, nr),
+                        MatRef::from_column_major_slice(z.as_slice(), nr, nr),
+                        -1.0,
+                        par,
+                    );
                 }
                 // faer's blocked LU: nalgebra's unblocked one took most of
                 // the time of a stiff-joint run.
-                let lu = q.partial_piv_lu();
-                let singular = (0..size).any(|i| lu.U()[(i, i)] == 0.0);
-                (dr, (!singular).then_some(lu))
-            })
-            .unzip();
-        self.dr = dr;
-        self.lu = lu;
+                lu.factorize(par);
+            });
     }
 
     /// `u_s = S P^-1 A r`: the section displacements of the section forces
@@ -560,6 +585,9 @@ impl BlockPreconditioner {
         released: &mut JointAmplitudes,
         u_s: &mut [f64],
     ) {
+        if self.stale {
+            self.factorize(setup);
+        }
         let fixed = self.fixed.clone();
         let fixed = &*fixed;
         let nr = 3 * fixed.pairs.len();
@@ -609,13 +637,9 @@ impl BlockPreconditioner {
                 y.push(&fixed.z[h] * &rv);
                 yr.rows_mut(i * nr, nr).copy_from(&fixed.zc[h].tr_mul(&rv));
             }
-            if let Some(lu) = lu {
+            if lu.ok() {
                 let mut w = dr * yr;
-                lu.solve_in_place(faer::MatMut::from_column_major_slice_mut(
-                    w.as_mut_slice(),
-                    group.len() * nr,
-                    1,
-                ));
+                lu.solve_in_place(w.as_mut_slice(), Par::rayon(0));
                 if w.iter().all(|v| v.is_finite()) {
                     for (i, &(h, _)) in group.iter().enumerate() {
                         y[i] += &fixed.zc[h] * w.rows(i * nr, nr);

@@ -87,7 +87,7 @@ impl<'a> FixedPoint<'a> {
     pub fn traction_jacobian_vector(&self, tau: &[f64], v: &[f64]) -> Vec<f64> {
         let s = &self.setup;
         let (_, ev) = self.traction_eval(tau);
-        let mut form = Traction::new(self.sweep(), super::types::COUPLED_MAX, true);
+        let mut form = Traction::new(self.sweep(), &super::types::IterationSettings::default());
         form.linearize(tau, &ev);
         let mut released = s.transfer.zeros();
         let mut x = vec![0.0; s.len()];
@@ -101,7 +101,7 @@ impl<'a> FixedPoint<'a> {
 
     fn traction_eval(&self, tau: &[f64]) -> (Vec<f64>, Eval) {
         let s = &self.setup;
-        let form = Traction::new(self.sweep(), super::types::COUPLED_MAX, true);
+        let form = Traction::new(self.sweep(), &super::types::IterationSettings::default());
         let mut released = s.transfer.zeros();
         let mut ev = s.new_eval();
         let mut x = vec![0.0; s.len()];

@@ -44,6 +44,7 @@ use super::precondition::BlockPreconditioner;
 use super::release::{law_tangent, Tangent};
 use super::sweep::Sweep;
 use super::transfer::JointAmplitudes;
+use super::types::IterationSettings;
 use nalgebra::Matrix3;
 use rayon::prelude::*;
 
@@ -67,13 +68,17 @@ pub(super) struct Traction<'s, 'a> {
     coupled_max: usize,
     /// See [`IterationSettings::gmres_first`](super::types::IterationSettings::gmres_first).
     gmres_first: bool,
+    /// See [`IterationSettings::watchdog`](super::types::IterationSettings::watchdog).
+    watchdog: bool,
     /// Scratch: section forces and displacements.
     x: Vec<f64>,
     u_s: Vec<f64>,
 }
 
 impl<'s, 'a> Traction<'s, 'a> {
-    pub(super) fn new(sweep: Sweep<'s, 'a>, coupled_max: usize, gmres_first: bool) -> Self {
+    pub(super) fn new(sweep: Sweep<'s, 'a>, settings: &IterationSettings) -> Self {
+        let (coupled_max, gmres_first, watchdog) =
+            (settings.coupled_max, settings.gmres_first, settings.watchdog);
         let setup = sweep.setup;
         let rho = setup.model.joints.iter().map(|j| j.softening()).collect();
         let n = setup.n_pairs();
@@ -87,6 +92,7 @@ impl<'s, 'a> Traction<'s, 'a> {
             pre: None,
             coupled_max,
             gmres_first,
+            watchdog,
             x: vec![0.0; setup.len()],
             u_s: vec![0.0; setup.len()],
         }
@@ -238,11 +244,12 @@ impl Formulation for Traction<'_, '_> {
                     [0, 1, 2].map(|r| [0, 1, 2].map(|c| (0..3).map(|q| inv[r][q] * dv[q][c]).sum::<f64>())),
                 );
             });
-        // Refactorized at every step: reusing it while the states stay the
-        // same (the slip tangents move) cost 2 -> 15 load steps at
-        // k_eta h / E = 1e5 on Scene P and stopped 1e6 at lambda = 0.
+        // At every step's tangents (factorized when first used): reusing
+        // it while the states stay the same (the slip tangents move) cost
+        // 2 -> 15 load steps at k_eta h / E = 1e5 on Scene P and stopped
+        // 1e6 at lambda = 0.
         let pre = pre.get_or_insert_with(|| BlockPreconditioner::new(s, *coupled_max, *gmres_first));
-        pre.update(s, tangents);
+        pre.update(tangents);
     }
 
     fn apply_j(&self, z: &[f64], wz: &[f64], out: &mut [f64]) {
@@ -306,5 +313,9 @@ impl Formulation for Traction<'_, '_> {
 
     fn stall_window(&self) -> u32 {
         NEWTON_STALL_STIFF
+    }
+
+    fn watchdog(&self) -> bool {
+        self.watchdog
     }
 }

@@ -119,6 +119,11 @@ pub struct IterationSettings {
     /// small system or a joint far stiffer than rigid); `false`: the dense
     /// LU from the start (the reference).
     pub gmres_first: bool,
+    /// Whether Newton on a softened joint's tractions breaks a crawl of
+    /// short line-search steps with a whole step under a watchdog
+    /// (docs/theory.md, "The three methods"); `false`: the monotone line
+    /// search alone (the reference).
+    pub watchdog: bool,
 }
 
 /// Largest order of the coupled interface tangent factorized densely, in
@@ -138,6 +143,7 @@ impl Default for IterationSettings {
             stall_window: 40,
             coupled_max: COUPLED_MAX,
             gmres_first: true,
+            watchdog: true,
         }
     }
 }
