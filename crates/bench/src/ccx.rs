@@ -9,6 +9,36 @@ use crate::measure::{run_measured, Measured};
 use anyhow::{bail, Context, Result};
 use std::path::Path;
 use std::process::Command;
+use std::time::Instant;
+
+/// What one peer run cost.
+#[derive(Clone, Debug)]
+pub struct PeerCost {
+    /// gmsh wall time (s).
+    pub mesh_seconds: f64,
+    /// ccx wall time (s).
+    pub ccx_wall_seconds: f64,
+    /// ccx CPU time (user + system) (s).
+    pub ccx_cpu_seconds: f64,
+    /// ccx peak resident memory (bytes).
+    pub ccx_peak_rss_bytes: u64,
+    /// Wall time of the whole run (mesh, deck, ccx, reading) (s).
+    pub total_wall_seconds: f64,
+}
+
+impl PeerCost {
+    /// The cost of a run that started at `start`, meshed in `mesh_seconds`
+    /// and ran ccx as `ccx` measured.
+    pub fn new(mesh_seconds: f64, ccx: &Measured, start: Instant) -> Self {
+        PeerCost {
+            mesh_seconds,
+            ccx_wall_seconds: ccx.wall_seconds,
+            ccx_cpu_seconds: ccx.cpu_seconds,
+            ccx_peak_rss_bytes: ccx.peak_rss_bytes,
+            total_wall_seconds: start.elapsed().as_secs_f64(),
+        }
+    }
+}
 
 /// Checks a peer's element size (`who` names the peer in the error) and
 /// creates its work directory.

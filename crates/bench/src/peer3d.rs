@@ -95,16 +95,8 @@ pub struct PeerRun {
     pub elements: usize,
     /// Equations solved (CalculiX's "number of equations").
     pub dofs: usize,
-    /// gmsh wall time (s).
-    pub mesh_seconds: f64,
-    /// ccx wall time (s).
-    pub ccx_wall_seconds: f64,
-    /// ccx CPU time (user + system) (s).
-    pub ccx_cpu_seconds: f64,
-    /// ccx peak resident memory (bytes).
-    pub ccx_peak_rss_bytes: u64,
-    /// Wall time of the whole run (mesh, deck, ccx, reading) (s).
-    pub total_wall_seconds: f64,
+    /// What the run cost.
+    pub cost: crate::ccx::PeerCost,
     /// Load increments CalculiX took (lines of the .sta file).
     pub increments: usize,
 }
@@ -220,11 +212,7 @@ pub fn run_detailed(variant: PeerVariant, opts: &PeerOptions) -> Result<(PeerRun
         nodes: model.n_nodes(),
         elements: model.tets.len(),
         dofs,
-        mesh_seconds,
-        ccx_wall_seconds: measured.wall_seconds,
-        ccx_cpu_seconds: measured.cpu_seconds,
-        ccx_peak_rss_bytes: measured.peak_rss_bytes,
-        total_wall_seconds: start.elapsed().as_secs_f64(),
+        cost: crate::ccx::PeerCost::new(mesh_seconds, &measured, start),
         increments,
     };
     Ok((

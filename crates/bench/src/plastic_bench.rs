@@ -289,9 +289,9 @@ pub fn run_peer(cfg: &PlasticConfig, size: f64) -> (PlasticRow, Vec<CurvePoint>)
     match result {
         Ok(r) => {
             row.unknowns = Some(r.dofs);
-            row.wall_s = Some(r.mesh_seconds + r.ccx_wall_seconds);
-            row.cpu_s = Some(r.mesh_seconds + r.ccx_cpu_seconds);
-            row.peak_rss_mib = Some(r.ccx_peak_rss_bytes as f64 / 1048576.0);
+            row.wall_s = Some(r.cost.mesh_seconds + r.cost.ccx_wall_seconds);
+            row.cpu_s = Some(r.cost.mesh_seconds + r.cost.ccx_cpu_seconds);
+            row.peak_rss_mib = Some(r.cost.ccx_peak_rss_bytes as f64 / 1048576.0);
             row.steps = Some(r.increments);
             row.iterations = Some(r.iterations);
             row.status = if r.completed {

@@ -73,16 +73,8 @@ pub struct PlasticPeerRun {
     pub dofs: usize,
     /// The curve, one point per converged increment (from the origin).
     pub curve: Vec<CurvePoint>,
-    /// gmsh wall time (s).
-    pub mesh_seconds: f64,
-    /// ccx wall time (s).
-    pub ccx_wall_seconds: f64,
-    /// ccx CPU time (user + system) (s).
-    pub ccx_cpu_seconds: f64,
-    /// ccx peak resident memory (bytes).
-    pub ccx_peak_rss_bytes: u64,
-    /// Wall time of the whole run (mesh, deck, ccx, reading) (s).
-    pub total_wall_seconds: f64,
+    /// What the run cost.
+    pub cost: crate::ccx::PeerCost,
     /// Converged increments.
     pub increments: usize,
     /// Newton iterations, all increments.
@@ -174,11 +166,7 @@ pub fn run(opts: &PlasticPeerOptions) -> Result<PlasticPeerRun> {
         elements: model.hexes.len(),
         dofs,
         curve,
-        mesh_seconds,
-        ccx_wall_seconds: measured.wall_seconds,
-        ccx_cpu_seconds: measured.cpu_seconds,
-        ccx_peak_rss_bytes: measured.peak_rss_bytes,
-        total_wall_seconds: start.elapsed().as_secs_f64(),
+        cost: crate::ccx::PeerCost::new(mesh_seconds, &measured, start),
         increments,
         iterations,
         completed,

@@ -565,16 +565,16 @@ pub fn run_peer(cfg: &Config, variant: &Variant, pv: PeerVariant, size: f64) -> 
         Ok(p) => {
             row.dof_3d = Some(p.dofs);
             row.iterations = Some(p.increments);
-            row.solve_wall_s = Some(p.mesh_seconds + p.ccx_wall_seconds);
-            row.solve_cpu_s = Some(p.ccx_cpu_seconds + p.mesh_seconds);
-            row.solve_peak_rss_mib = Some(p.ccx_peak_rss_bytes as f64 / MIB);
-            row.solve_warm_wall_s = Some(p.ccx_wall_seconds);
-            row.solve_warm_cpu_s = Some(p.ccx_cpu_seconds);
-            row.run_wall_s = Some(p.total_wall_seconds);
+            row.solve_wall_s = Some(p.cost.mesh_seconds + p.cost.ccx_wall_seconds);
+            row.solve_cpu_s = Some(p.cost.ccx_cpu_seconds + p.cost.mesh_seconds);
+            row.solve_peak_rss_mib = Some(p.cost.ccx_peak_rss_bytes as f64 / MIB);
+            row.solve_warm_wall_s = Some(p.cost.ccx_wall_seconds);
+            row.solve_warm_cpu_s = Some(p.cost.ccx_cpu_seconds);
+            row.run_wall_s = Some(p.cost.total_wall_seconds);
             if let (Some(a), Some(b)) = (before, machine_busy_seconds()) {
-                if p.total_wall_seconds > 0.0 {
-                    let own = p.ccx_cpu_seconds + p.mesh_seconds;
-                    row.load_run = Some(((b - a - own) / p.total_wall_seconds).max(0.0));
+                if p.cost.total_wall_seconds > 0.0 {
+                    let own = p.cost.ccx_cpu_seconds + p.cost.mesh_seconds;
+                    row.load_run = Some(((b - a - own) / p.cost.total_wall_seconds).max(0.0));
                 }
             }
             row.note = format!("{}; {} nodes, {} elements", row.note, p.nodes, p.elements);

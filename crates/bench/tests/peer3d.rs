@@ -199,7 +199,7 @@ fn bonded_coarse_equilibrium_and_antisymmetry() {
     let (run, det) = peer3d::run_detailed(PeerVariant::Bonded, &opts).unwrap();
     eprintln!(
         "bonded size 0.2: {} nodes, {} elements, {} equations, ccx {:.1} s, RF {:?}",
-        run.nodes, run.elements, run.dofs, run.ccx_wall_seconds, det.reaction_total
+        run.nodes, run.elements, run.dofs, run.cost.ccx_wall_seconds, det.reaction_total
     );
     // Global equilibrium: the reactions of r = 3 balance H/2 (the symmetry
     // plane takes only y forces).
@@ -252,7 +252,7 @@ fn coulomb_converges_and_opens_at_theta_pi() {
     let (run, det) = peer3d::run_detailed(PeerVariant::Coulomb, &opts).unwrap();
     eprintln!(
         "coulomb size 0.2: {} increments, {} iterations, ccx {:.1} s",
-        run.increments, det.iterations, run.ccx_wall_seconds
+        run.increments, det.iterations, run.cost.ccx_wall_seconds
     );
     let rf = det.reaction_total;
     assert!((rf[0] + H / 2.0).abs() <= 1e-5 * H / 2.0, "{rf:?}");
@@ -308,9 +308,9 @@ fn agree_with_axijoint(variant: PeerVariant, law: Option<serde_json::Value>) {
         variant.name(),
         run.nodes,
         run.dofs,
-        run.ccx_wall_seconds,
-        run.ccx_cpu_seconds,
-        run.ccx_peak_rss_bytes as f64 / 1e6,
+        run.cost.ccx_wall_seconds,
+        run.cost.ccx_cpu_seconds,
+        run.cost.ccx_peak_rss_bytes as f64 / 1e6,
         run.increments,
         det.iterations
     );
@@ -400,13 +400,13 @@ fn study() {
                 run.nodes,
                 run.elements,
                 run.dofs,
-                run.mesh_seconds,
-                run.ccx_wall_seconds,
-                run.ccx_cpu_seconds,
-                run.ccx_peak_rss_bytes as f64 / 1e6,
+                run.cost.mesh_seconds,
+                run.cost.ccx_wall_seconds,
+                run.cost.ccx_cpu_seconds,
+                run.cost.ccx_peak_rss_bytes as f64 / 1e6,
                 run.increments,
                 det.iterations,
-                run.total_wall_seconds,
+                run.cost.total_wall_seconds,
                 det.reaction_total,
                 d.join(", ")
             );
