@@ -529,6 +529,14 @@ fn load_steps(s: &axijoint_solver::iteration::Solved<()>) -> usize {
     s.stepped.as_ref().map_or(0, |p| p.steps.len())
 }
 
+/// Sweeps (solves of every harmonic) of a stepped solution, its failed
+/// attempts included.
+fn sweeps(s: &axijoint_solver::iteration::Solved<()>) -> u32 {
+    s.stepped
+        .as_ref()
+        .map_or(0, |p| p.steps.iter().map(|st| st.solves).sum())
+}
+
 /// GMRES first on the coupled interface tangent (the default above
 /// `GMRES_ORDER`) against the dense LU from the start, on the pile in
 /// soil (geo/pile_soil.json at M = 8: coupled order 4590; rigid
@@ -559,10 +567,11 @@ fn gmres_first_agrees_with_the_dense_lu_on_the_pile_in_soil() {
 /// the pile in soil (geo/pile_soil.json at M = 8, its combined head load,
 /// stepped) with Mohr-Coulomb joints ten times the rigid penalty (k h / E
 /// = 1e4): the same answer to 1e-6 of the largest amplitude (measured
-/// 3e-8) in the same load steps, in at most 0.7 times the Newton steps
-/// (measured 102 against 187: without it, points that have begun to slip
-/// turn their tractions by tens of degrees per Newton step and the line
-/// search keeps 1/64 of each step for 150 steps).
+/// 6e-11) in at most 0.7 times the sweeps over the load path, failed
+/// attempts included (measured 63 in one load step against 389 in two:
+/// without it, points that have begun to slip turn their tractions by
+/// tens of degrees per Newton step and the line search keeps 1/64 of each
+/// step for 150 steps).
 #[test]
 fn the_watchdog_ends_the_crawl_of_a_stiff_joint() {
     let variants = [false, true].map(|watchdog| IterationSettings {
@@ -571,21 +580,19 @@ fn the_watchdog_ends_the_crawl_of_a_stiff_joint() {
     });
     let runs = pile_in_soil_runs(10.0, &variants);
     let ((plain, t_plain), (watched, t_watched)) = (&runs[0], &runs[1]);
-    let newton = |s: &axijoint_solver::iteration::Solved<()>| s.outcome.history.len();
     let diff = relative_difference(&watched.outcome.displacements, &plain.outcome.displacements);
     println!(
-        "line search alone {t_plain:.2} s, {} Newton steps in {} load steps; watchdog {t_watched:.2} s, {} in {}; difference {diff:.2e}",
-        newton(plain),
+        "line search alone {t_plain:.2} s, {} sweeps in {} load steps; watchdog {t_watched:.2} s, {} in {}; difference {diff:.2e}",
+        sweeps(plain),
         load_steps(plain),
-        newton(watched),
+        sweeps(watched),
         load_steps(watched)
     );
-    assert_eq!(load_steps(plain), load_steps(watched));
     assert!(diff <= 1e-6, "{diff:.2e}");
     assert!(
-        newton(watched) as f64 <= 0.7 * newton(plain) as f64,
-        "{} against {} Newton steps",
-        newton(watched),
-        newton(plain)
+        sweeps(watched) as f64 <= 0.7 * sweeps(plain) as f64,
+        "{} against {} sweeps",
+        sweeps(watched),
+        sweeps(plain)
     );
 }

@@ -27,6 +27,21 @@ pub(super) const NEWTON_HALVINGS_STIFF: u32 = 10;
 /// bracket the exact factor, the sliding one in 715 solves instead of 2333.
 pub(super) const NEWTON_STALL_STIFF: u32 = 16;
 
+/// The largest Eisenstat-Walker forcing term with a joint stiffer than its
+/// elements (the traction form). With the nodal form's 0.3, a slow step
+/// (`|R|` down by a few percent) sets the next term to 0.3, the Krylov
+/// directions kept from earlier steps then meet it without a sweep, and
+/// that poor direction makes the next step slow again: on the pile in soil
+/// at k h / E = 1e5 with harmonics 0..=4 and 17 sections (its M/2 check),
+/// a stall at ratio 1.006e-6 reported as a limit load at 0.061 of the load
+/// after 270 s; with 0.03 it converges in 5 s (with the springs changed by
+/// 3e-14, 8 and 14 s, and once not in 90 s: so close to the switching
+/// surface the path is chaotic, docs/stability.md). Measured on the pile in
+/// soil (M = 8) with 0.3 / 0.03 / 0.01: rigid 3.4 / 2.9 / 4.3 s (a tighter
+/// term pays more dense LUs of the preconditioner), k h / E = 1e5 270 (the
+/// M/2 check stalled) / 28 / 19 s.
+pub(super) const NEWTON_ETA_MAX_STIFF: f64 = 0.03;
+
 /// Line-search steps in a row at `lambda <= CRAWL_LAMBDA` after which the
 /// watchdog takes the whole Newton step ([`Formulation::watchdog`]).
 pub(super) const CRAWL_STEPS: u32 = 3;
@@ -67,6 +82,10 @@ pub(super) trait Formulation {
     fn halvings(&self) -> u32;
     /// Steps without a new minimum of `|R|` (by 1 %) before no equilibrium.
     fn stall_window(&self) -> u32;
+    /// The largest forcing term of the Krylov solve.
+    fn eta_max(&self) -> f64 {
+        super::newton::NEWTON_ETA_MAX
+    }
     /// Whether a crawl of short line-search steps is broken by a whole
     /// Newton step under a watchdog (see [`newton`](super::newton::newton)).
     fn watchdog(&self) -> bool {

@@ -30,9 +30,11 @@ use std::time::Instant;
 const NEWTON_STALL: u32 = 8;
 
 /// The range of the Eisenstat-Walker forcing term (measured on Scene P:
-/// an upper bound of 0.5 or 0.1 instead of 0.3 costs 0 to 3 more sweeps).
+/// an upper bound of 0.5 or 0.1 instead of 0.3 costs 0 to 3 more sweeps);
+/// the traction form's upper bound is
+/// [`NEWTON_ETA_MAX_STIFF`](super::formulation::NEWTON_ETA_MAX_STIFF).
 const NEWTON_ETA_MIN: f64 = 1e-3;
-const NEWTON_ETA_MAX: f64 = 0.3;
+pub(super) const NEWTON_ETA_MAX: f64 = 0.3;
 
 /// Newton on the released section forces: `R(x) = Psi(x) - x`,
 /// `J = D W - I` (D the release tangent,
@@ -683,6 +685,7 @@ fn solve(
     let mut stall = Stall::new(r_norm, form.stall_window());
     let mut watchdog = Watchdog::new(form.watchdog());
     let eta_floor = 0.5 * settings.epsilon * psi0;
+    let eta_max = form.eta_max();
     for step in 2..=settings.max_iterations {
         // (1) The Newton direction at y.
         it.rhs.copy_from_slice(&it.res);
@@ -692,7 +695,9 @@ fn solve(
             let safe = 0.9 * eta * eta;
             eta = if safe > 0.1 { ew.max(safe) } else { ew };
         }
-        eta = eta.clamp(NEWTON_ETA_MIN, NEWTON_ETA_MAX).max(eta_floor / r_norm);
+        eta = eta
+            .clamp(NEWTON_ETA_MIN.min(eta_max), eta_max)
+            .max(eta_floor / r_norm);
         let budget = settings.max_iterations.saturating_sub(total + 1);
         let mut sweeps = it.krylov.solve(
             form,

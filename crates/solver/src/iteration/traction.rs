@@ -39,7 +39,7 @@
 
 use super::attempt::Start;
 use super::eval::Eval;
-use super::formulation::{Formulation, NEWTON_HALVINGS_STIFF, NEWTON_STALL_STIFF};
+use super::formulation::{Formulation, NEWTON_ETA_MAX_STIFF, NEWTON_HALVINGS_STIFF, NEWTON_STALL_STIFF};
 use super::precondition::BlockPreconditioner;
 use super::release::{law_tangent, Tangent};
 use super::sweep::Sweep;
@@ -317,5 +317,9 @@ impl Formulation for Traction<'_, '_> {
 
     fn watchdog(&self) -> bool {
         self.watchdog
+    }
+
+    fn eta_max(&self) -> f64 {
+        NEWTON_ETA_MAX_STIFF
     }
 }

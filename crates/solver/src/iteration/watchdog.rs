@@ -63,8 +63,15 @@ impl Watchdog {
         self.short = 0;
     }
 
-    /// Notes the line search's accepted step (`None`: none accepted).
+    /// Notes the line search's accepted step (`None`: none accepted). The
+    /// watched steps do not count: after a return the checkpoint's next
+    /// step is the line search's (the same whole step again from there
+    /// would repeat the watch forever, as it did on the pile in soil at
+    /// k h / E = 1e6).
     pub(super) fn note(&mut self, lambda: Option<f64>) {
+        if self.saved.is_some() {
+            return;
+        }
         match lambda {
             Some(l) if l <= CRAWL_LAMBDA => self.short += 1,
             _ => self.short = 0,
@@ -91,5 +98,67 @@ impl Watchdog {
     /// unresolved-force checks wait for the verdict).
     pub(super) fn watching(&self) -> bool {
         self.saved.is_some()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn checkpoint(r_norm: f64) -> Checkpoint {
+        let acc = Eval {
+            u_s: Vec::new(),
+            g: Vec::new(),
+            d: Vec::new(),
+            p: Vec::new(),
+            state: Vec::new(),
+            broken: Vec::new(),
+            sigma: Vec::new(),
+            plastic: Vec::new(),
+            yielding: Vec::new(),
+        };
+        Checkpoint {
+            y: Vec::new(),
+            acc,
+            res: Vec::new(),
+            r_norm,
+        }
+    }
+
+    /// Three short steps relax the next one; a watch whose steps crawl and
+    /// stay above the checkpoint returns there after `WATCH_STEPS`; from
+    /// there the line search again, until three new short steps (before,
+    /// the watched steps' own short steps relaxed the first step after the
+    /// return: the same whole step from the same checkpoint, forever).
+    #[test]
+    fn a_failed_watch_returns_to_the_line_search() {
+        let mut w = Watchdog::new(true);
+        for _ in 0..CRAWL_STEPS {
+            assert!(!w.relax());
+            w.note(Some(CRAWL_LAMBDA));
+        }
+        assert!(w.relax());
+        w.watch(checkpoint(1.0));
+        for left in (1..=WATCH_STEPS).rev() {
+            assert!(w.watching() && !w.relax());
+            w.note(Some(CRAWL_LAMBDA / 4.0));
+            match w.verdict(2.0, false) {
+                Verdict::Go => assert!(left > 1),
+                Verdict::Return(c) => assert_eq!((left, c.r_norm), (1, 1.0)),
+            }
+        }
+        assert!(!w.watching());
+        for _ in 0..CRAWL_STEPS {
+            assert!(!w.relax());
+            w.note(Some(CRAWL_LAMBDA));
+        }
+        assert!(w.relax());
+        // A long step ends a crawl; a watch that gets below its checkpoint
+        // stands.
+        w.note(Some(0.5));
+        assert!(!w.relax());
+        w.watch(checkpoint(1.0));
+        assert!(matches!(w.verdict(0.5, false), Verdict::Go));
+        assert!(!w.watching());
     }
 }
