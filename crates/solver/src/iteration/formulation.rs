@@ -27,6 +27,11 @@ pub(super) const NEWTON_HALVINGS_STIFF: u32 = 10;
 /// bracket the exact factor, the sliding one in 715 solves instead of 2333.
 pub(super) const NEWTON_STALL_STIFF: u32 = 16;
 
+/// The largest Eisenstat-Walker forcing term of the Krylov solve of a
+/// Newton step (measured on Scene P: an upper bound of 0.5 or 0.1 instead
+/// of 0.3 costs 0 to 3 more sweeps).
+const NEWTON_ETA_MAX: f64 = 0.3;
+
 /// The largest Eisenstat-Walker forcing term with a joint stiffer than its
 /// elements (the traction form). With the nodal form's 0.3, a slow step
 /// (`|R|` down by a few percent) sets the next term to 0.3, the Krylov
@@ -84,7 +89,7 @@ pub(super) trait Formulation {
     fn stall_window(&self) -> u32;
     /// The largest forcing term of the Krylov solve.
     fn eta_max(&self) -> f64 {
-        super::newton::NEWTON_ETA_MAX
+        NEWTON_ETA_MAX
     }
     /// Whether a crawl of short line-search steps is broken by a whole
     /// Newton step under a watchdog (see [`newton`](super::newton::newton)).

@@ -29,12 +29,9 @@ use std::time::Instant;
 /// traction form's is [`NEWTON_STALL_STIFF`](super::formulation::NEWTON_STALL_STIFF).
 const NEWTON_STALL: u32 = 8;
 
-/// The range of the Eisenstat-Walker forcing term (measured on Scene P:
-/// an upper bound of 0.5 or 0.1 instead of 0.3 costs 0 to 3 more sweeps);
-/// the traction form's upper bound is
-/// [`NEWTON_ETA_MAX_STIFF`](super::formulation::NEWTON_ETA_MAX_STIFF).
+/// The smallest Eisenstat-Walker forcing term (the largest:
+/// [`Formulation::eta_max`]).
 const NEWTON_ETA_MIN: f64 = 1e-3;
-pub(super) const NEWTON_ETA_MAX: f64 = 0.3;
 
 /// Newton on the released section forces: `R(x) = Psi(x) - x`,
 /// `J = D W - I` (D the release tangent,
