@@ -47,6 +47,11 @@ const NEWTON_ETA_MAX: f64 = 0.3;
 /// M/2 check stalled) / 28 / 19 s.
 pub(super) const NEWTON_ETA_MAX_STIFF: f64 = 0.03;
 
+/// Plain steps in a row (no descent along the Newton direction) after
+/// which a Newton solve switches to the smoothed residual
+/// ([`Formulation::smooth`]; docs/stability.md, item 9).
+pub(super) const SMOOTH_AFTER: u32 = 3;
+
 /// Line-search steps in a row at `lambda <= CRAWL_LAMBDA` after which the
 /// watchdog takes the whole Newton step ([`Formulation::watchdog`]).
 pub(super) const CRAWL_STEPS: u32 = 3;
@@ -87,6 +92,11 @@ pub(super) trait Formulation {
     fn halvings(&self) -> u32;
     /// Steps without a new minimum of `|R|` (by 1 %) before no equilibrium.
     fn stall_window(&self) -> u32;
+    /// Switches the residual to a smoothed form with the same solutions;
+    /// whether it switched.
+    fn smooth(&mut self) -> bool {
+        false
+    }
     /// The largest forcing term of the Krylov solve.
     fn eta_max(&self) -> f64 {
         NEWTON_ETA_MAX

@@ -9,7 +9,7 @@ use super::attempt::{Converged, Failure, Start};
 use super::body::SectionBasis;
 use super::diagnosis::{no_equilibrium, not_converged, unresolved};
 use super::eval::Eval;
-use super::formulation::{Formulation, NEWTON_HALVINGS, WATCH_STEPS};
+use super::formulation::{Formulation, NEWTON_HALVINGS, SMOOTH_AFTER, WATCH_STEPS};
 use super::release::Tangents;
 use super::sweep::Sweep;
 use super::traction::Traction;
@@ -372,8 +372,10 @@ impl Krylov {
 /// decreases `|R|` (a joint point switches state just ahead: the law is
 /// only piecewise smooth, and discontinuous where a cohesive joint opens),
 /// take the plain step `y + R` with a true evaluation (one sweep; its pair
-/// is kept too). A ratio below epsilon is confirmed by a true evaluation
-/// (one sweep), which also gives the displacement amplitudes.
+/// is kept too); after three plain steps in a row the formulation may
+/// switch to a smoothed residual with the same solutions
+/// ([`Formulation::smooth`]). A ratio below epsilon is confirmed by a true
+/// evaluation (one sweep), which also gives the displacement amplitudes.
 ///
 /// No equilibrium: when the load exceeds what the joints carry, the points
 /// along the unbalanced force all slip or open, the tangent releases the
@@ -683,6 +685,7 @@ fn solve(
     let mut watchdog = Watchdog::new(form.watchdog());
     let eta_floor = 0.5 * settings.epsilon * psi0;
     let eta_max = form.eta_max();
+    let mut fallbacks = 0u32;
     for step in 2..=settings.max_iterations {
         // (1) The Newton direction at y.
         it.rhs.copy_from_slice(&it.res);
@@ -719,6 +722,7 @@ fn solve(
             lambda.is_some()
         };
         stall.fell_back(!accepted);
+        fallbacks = if accepted { 0 } else { fallbacks + 1 };
         let mut evaluated = !accepted;
         if !accepted {
             it.plain_step(form);
@@ -727,6 +731,12 @@ fn solve(
         it.advance();
         r_prev = r_norm;
         r_norm = norm(&it.res);
+        if fallbacks >= SMOOTH_AFTER && !watchdog.watching() && form.smooth() {
+            // The same iterate under the smoothed residual (no sweep).
+            form.residual(&it.y, &mut it.acc, &mut it.res);
+            r_norm = norm(&it.res);
+            stall = Stall::new(r_norm, form.stall_window());
+        }
         if watchdog.watching() {
             form.forces(&it.y, &mut it.x);
             let bad = !r_norm.is_finite() || unresolved(setup, &it.x, psi0, settings.epsilon).is_some();

@@ -70,6 +70,8 @@ pub(super) struct Traction<'s, 'a> {
     gmres_first: bool,
     /// See [`IterationSettings::watchdog`](super::types::IterationSettings::watchdog).
     watchdog: bool,
+    /// Whether the normal rows are in Fischer-Burmeister form.
+    fischer: bool,
     /// Scratch: section forces and displacements.
     x: Vec<f64>,
     u_s: Vec<f64>,
@@ -93,6 +95,7 @@ impl<'s, 'a> Traction<'s, 'a> {
             coupled_max,
             gmres_first,
             watchdog,
+            fischer: false,
             x: vec![0.0; setup.len()],
             u_s: vec![0.0; setup.len()],
         }
@@ -106,6 +109,27 @@ impl<'s, 'a> Traction<'s, 'a> {
             Some(y) if y.len() == n => y.clone(),
             _ => vec![0.0; n],
         }
+    }
+
+    /// The cap of the normal traction at pair `k` (point i) under the
+    /// history law (0 debonded, else the tensile strength), where the
+    /// residual's normal row is in Fischer-Burmeister form ([`fischer`]).
+    fn cap_of(sweep: &Sweep, on: bool, k: usize, i: usize) -> Option<f64> {
+        if !on {
+            return None;
+        }
+        let s = sweep.setup;
+        let h = sweep.state.history_of(k)?;
+        match &s.laws[s.points[i].joint] {
+            crate::scene::JointLaw::MohrCoulomb(mc) => {
+                Some(if h.debonded { 0.0 } else { mc.tensile_strength })
+            }
+            crate::scene::JointLaw::Linear => None,
+        }
+    }
+
+    fn cap(&self, k: usize, i: usize) -> Option<f64> {
+        Self::cap_of(&self.sweep, self.fischer, k, i)
     }
 
     /// At pair `k` (point i of section s) with relative displacement `d`
@@ -133,6 +157,23 @@ impl<'s, 'a> Traction<'s, 'a> {
         }
         (t, z)
     }
+}
+
+/// The normal row of the residual in Fischer-Burmeister form and its
+/// derivatives `(dphi/da, dphi/db)`: `a = t_left - t_n`, `b = z_n - t_n`,
+/// `F_n = -(a + b - |(a, b)|)` (the projection's row is `-min(a, b)`: the
+/// same zeros, but `|R|^2` smooth across the switching surface, so the
+/// Newton direction descends at a point that sits on it; used after
+/// three plain steps in a row, [`Formulation::smooth`]).
+fn fischer(t_left: f64, t_n: f64, z_n: f64) -> (f64, f64, f64) {
+    let (a, b) = (t_left - t_n, z_n - t_n);
+    let r = a.hypot(b);
+    let (pa, pb) = if r > 0.0 {
+        (1.0 - a / r, 1.0 - b / r)
+    } else {
+        (0.0, 1.0)
+    };
+    (-(a + b - r), pa, pb)
 }
 
 fn mul3(a: &M3, v: [f64; 3]) -> [f64; 3] {
@@ -181,7 +222,10 @@ impl Formulation for Traction<'_, '_> {
                     let (t, z) = Self::carried(&self.sweep, &self.rho, k, i, dk, tau);
                     let springs = &s.model.joints[s.points[i].joint].assembled;
                     let (pk, st) = self.sweep.admissible((k, i), z, springs, &mut out.broken[i]);
-                    let f = [0, 1, 2].map(|c| t[c] - pk[c]);
+                    let mut f = [0, 1, 2].map(|c| t[c] - pk[c]);
+                    if let Some(t_left) = self.cap(k, i) {
+                        f[1] = fischer(t_left, t[1], z[1]).0;
+                    }
                     rs[3 * i..3 * i + 3].copy_from_slice(&f);
                     // The release in nodal form: what the model's spring and
                     // the initial traction carry minus what the law allows.
@@ -208,8 +252,10 @@ impl Formulation for Traction<'_, '_> {
             pre,
             coupled_max,
             gmres_first,
+            fischer: smoothed,
             ..
         } = self;
+        let fischer_on = *smoothed;
         let (sweep, s) = (&*sweep, sweep.setup);
         let n_p = s.points.len().max(1);
         dvk.par_iter_mut()
@@ -220,7 +266,7 @@ impl Formulation for Traction<'_, '_> {
             .for_each(|(k, (((dvk, dd), dd_inv), tangent))| {
                 let i = k % n_p;
                 let joint = s.points[i].joint;
-                let (_, z) = Self::carried(sweep, rho, k, i, ev.d[k], &y[3 * k..3 * k + 3]);
+                let (t, z) = Self::carried(sweep, rho, k, i, ev.d[k], &y[3 * k..3 * k + 3]);
                 let law = &s.laws[joint];
                 let rate = s.opening_rate(joint, &s.model.joints[joint].assembled);
                 let e = law_tangent(law, sweep.state.history_of(k), z, ev.state[k], rate)
@@ -236,6 +282,12 @@ impl Formulation for Traction<'_, '_> {
                         dv[r][c] = I3[r][c] - t * (2.0 - rho[c]);
                         dvk[r][c] = dv[r][c] * ka[c];
                     }
+                }
+                if let Some(t_left) = Self::cap_of(sweep, fischer_on, k, i) {
+                    let (_, pa, pb) = fischer(t_left, t[1], z[1]);
+                    dd[1] = [0.0, pa + rho[1] * pb, 0.0];
+                    dv[1] = [0.0, pa - (1.0 - rho[1]) * pb, 0.0];
+                    dvk[1] = [0.0, dv[1][1] * ka[1], 0.0];
                 }
                 let inv = Matrix3::from_fn(|r, c| dd[r][c]).try_inverse();
                 *dd_inv = inv.map_or(I3, |m| [0, 1, 2].map(|r| [0, 1, 2].map(|c| m[(r, c)])));
@@ -321,5 +373,41 @@ impl Formulation for Traction<'_, '_> {
 
     fn eta_max(&self) -> f64 {
         NEWTON_ETA_MAX_STIFF
+    }
+
+    fn smooth(&mut self) -> bool {
+        !std::mem::replace(&mut self.fischer, true)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::fischer;
+
+    /// The Fischer-Burmeister row vanishes where the projection's row
+    /// `t_n - min(z_n, T')` does (closed: `z_n = t_n <= T'`; open:
+    /// `t_n = T' <= z_n`), keeps its sign elsewhere, and its derivatives
+    /// match central differences (1e-6) and are the closed / open rows
+    /// far from the corner.
+    #[test]
+    fn the_fischer_row_has_the_projections_zeros_and_derivatives() {
+        let cap = 0.1;
+        for (t, z) in [(-0.3, -0.3), (0.1, 0.5), (0.1, 0.1)] {
+            assert!(fischer(cap, t, z).0.abs() < 1e-15, "{t} {z}");
+        }
+        for (t, z) in [(-0.3, -0.2), (-0.3, 0.4), (0.05, 0.07), (0.2, 0.3), (-1.0, -1.5)] {
+            let (f, pa, pb) = fischer(cap, t, z);
+            let proj = t - f64::min(z, cap);
+            assert!(f * proj > 0.0, "{t} {z}: {f} vs {proj}");
+            // d/da at fixed b: move t_left; d/db at fixed a: move z_n.
+            let h = 1e-7;
+            let da = (fischer(cap + h, t, z).0 - fischer(cap - h, t, z).0) / (2.0 * h);
+            let db = (fischer(cap, t, z + h).0 - fischer(cap, t, z - h).0) / (2.0 * h);
+            assert!((da + pa).abs() < 1e-6 && (db + pb).abs() < 1e-6, "{t} {z}");
+        }
+        let (_, pa, pb) = fischer(cap, -1.0, -1.0 + 1e-9);
+        assert!(pa.abs() < 1e-6 && (pb - 1.0).abs() < 1e-6, "closed: {pa} {pb}");
+        let (_, pa, pb) = fischer(cap, cap - 1e-9, 2.0);
+        assert!((pa - 1.0).abs() < 1e-6 && pb.abs() < 1e-6, "open: {pa} {pb}");
     }
 }
