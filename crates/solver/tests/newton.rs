@@ -20,7 +20,7 @@
 
 use axijoint_solver::error::SolverError;
 use axijoint_solver::iteration::{
-    stress_transfer, FixedPoint, IterationError, IterationRecord, IterationSettings, Method,
+    stress_transfer, FixedPoint, InterfaceSolve, IterationError, IterationRecord, IterationSettings, Method,
 };
 use axijoint_solver::joint_law::{state_counts, JointState};
 use axijoint_solver::run::{scene_sections, solve_linear, solve_scene};
@@ -418,25 +418,26 @@ fn a_record_without_solves_still_reads() {
     assert_eq!(back["solves"], 0);
 }
 
-/// The stiff-joint preconditioner above `coupled_max` (GMRES on the
-/// coupled interface tangent, per-harmonic blocks as its preconditioner)
-/// against the dense LU below it: Scene P with the joint's springs at
-/// k_eta h / E = 12.5 and 1000 (the rigid penalty), one-shot, epsilon
-/// 1e-8. Both are preconditioners of the same Newton on the same residual,
-/// so the answers agree to what epsilon leaves (bound 1e-6 of the largest
-/// amplitude; measured 1.5e-13 and 2.5e-10, 14 and 14, 20 and 25 sweeps).
+/// The stiff-joint preconditioner's banded interface solve (GMRES on the
+/// Schur form of the coupled interface tangent, the sparse LU of its
+/// element-banded part as its preconditioner) against the dense LU of the
+/// whole coupled system: Scene P with the joint's springs at k_eta h / E =
+/// 12.5, 1000 (the rigid penalty) and 1e6, one-shot, epsilon 1e-8. Both
+/// are preconditioners of the same Newton on the same residual, so the
+/// answers agree to what epsilon leaves (bound 1e-6 of the largest
+/// amplitude).
 #[test]
 fn the_gmres_interface_solve_agrees_with_the_dense_lu() {
-    for kh in [12.5, 1000.0] {
+    for kh in [12.5, 1000.0, 1e4] {
         let sc = stiff_scene_p(kh);
         let lin = solve_linear(&sc, None, true).expect("linear run");
         let laws = laws(&sc, &lin.problem.model.mesh);
         let sections = scene_sections(&sc, &lin.problem.model, &lin.loads).expect("sections");
-        let run = |coupled_max: usize| {
+        let run = |interface_solve: InterfaceSolve| {
             let settings = IterationSettings {
                 method: Method::Newton,
                 epsilon: 1e-8,
-                coupled_max,
+                interface_solve,
                 ..IterationSettings::default()
             };
             stress_transfer(
@@ -448,16 +449,16 @@ fn the_gmres_interface_solve_agrees_with_the_dense_lu() {
                 &settings,
                 |_| {},
             )
-            .unwrap_or_else(|e| panic!("k h / E = {kh}, coupled_max {coupled_max}: {e}"))
+            .unwrap_or_else(|e| panic!("k h / E = {kh}, {interface_solve:?}: {e}"))
         };
-        let (dense, gmres) = (run(usize::MAX), run(0));
-        let diff = relative_difference(&gmres.displacements, &dense.displacements);
+        let (dense, banded) = (run(InterfaceSolve::Dense), run(InterfaceSolve::Banded));
+        let diff = relative_difference(&banded.displacements, &dense.displacements);
         let sweeps =
             |o: &axijoint_solver::iteration::Outcome| o.history.iter().map(|r| r.solves).sum::<u32>();
         println!(
-            "k h / E = {kh}: dense LU {} sweeps, GMRES {} sweeps, difference {:.2e} of the largest amplitude",
+            "k h / E = {kh}: dense LU {} sweeps, banded {} sweeps, difference {:.2e} of the largest amplitude",
             sweeps(&dense),
-            sweeps(&gmres),
+            sweeps(&banded),
             diff
         );
         assert!(diff <= 1e-6, "k h / E = {kh}: {diff:.2e}");
@@ -537,28 +538,28 @@ fn sweeps(s: &axijoint_solver::iteration::Solved<()>) -> u32 {
         .map_or(0, |p| p.steps.iter().map(|st| st.solves).sum())
 }
 
-/// GMRES first on the coupled interface tangent (the default above
-/// `GMRES_ORDER`) against the dense LU from the start, on the pile in
-/// soil (geo/pile_soil.json at M = 8: coupled order 4590; rigid
-/// Mohr-Coulomb joints, its combined head load, stepped): the same answer
-/// to 1e-6 of the largest amplitude (measured 4e-8), the same load
-/// steps; measured 2.7 s against 3.0 s (2.9 s against 6.5 s before the
-/// dense LU's buffer was kept from step to step).
+/// The banded interface solve (the default) against the dense LU of the
+/// coupled system, on the pile in soil (geo/pile_soil.json at M = 8:
+/// coupled order 2295; rigid Mohr-Coulomb joints, its combined head load,
+/// stepped): the same answer to 1e-6 of the largest amplitude, the same
+/// load steps.
 #[test]
-fn gmres_first_agrees_with_the_dense_lu_on_the_pile_in_soil() {
-    let variants = [false, true].map(|gmres_first| IterationSettings {
-        gmres_first,
+fn the_banded_interface_solve_agrees_with_the_dense_lu_on_the_pile_in_soil() {
+    let variants = [InterfaceSolve::Dense, InterfaceSolve::Banded].map(|interface_solve| IterationSettings {
+        interface_solve,
         ..IterationSettings::default()
     });
     let runs = pile_in_soil_runs(1.0, &variants);
-    let ((dense, t_dense), (gmres, t_gmres)) = (&runs[0], &runs[1]);
-    let diff = relative_difference(&gmres.outcome.displacements, &dense.outcome.displacements);
+    let ((dense, t_dense), (banded, t_banded)) = (&runs[0], &runs[1]);
+    let diff = relative_difference(&banded.outcome.displacements, &dense.outcome.displacements);
     println!(
-        "dense LU {t_dense:.2} s, {} steps; GMRES first {t_gmres:.2} s, {} steps; difference {diff:.2e}",
+        "dense LU {t_dense:.2} s, {} steps, {} sweeps; banded {t_banded:.2} s, {} steps, {} sweeps; difference {diff:.2e}",
         load_steps(dense),
-        load_steps(gmres)
+        sweeps(dense),
+        load_steps(banded),
+        sweeps(banded)
     );
-    assert_eq!(load_steps(dense), load_steps(gmres));
+    assert_eq!(load_steps(dense), load_steps(banded));
     assert!(diff <= 1e-6, "{diff:.2e}");
 }
 

@@ -694,8 +694,10 @@ const STIFF_ROWS: [f64; 4] = [0.5, 1.0, 12.5, 1e6];
 /// joint, never with a "no equilibrium" (which would be a wrong
 /// diagnosis). Newton assembles a softer reference (k h / E = 1) and
 /// releases the difference, with the harmonic-coupled preconditioner: it
-/// converges one-shot at 12.5; at 1e6 one-shot it stalls, reported as
-/// `StiffJoint` (stepped loading: crates/solver/tests/loading.rs).
+/// converges one-shot at 12.5; at 1e6 one-shot it still decreases its
+/// residual (1e-3) when it reaches the iteration limit, reported as not
+/// converged (the iteration limit named; stepped loading, the default,
+/// converges: crates/solver/tests/loading.rs).
 /// Anderson converges at 12.5 too (209 iterations) since a normal stress of
 /// round-off size no longer opens a point.
 ///
@@ -719,7 +721,9 @@ fn case3_very_stiff_joint() {
             }
             // Anderson and newton converge at 12.5 (anderson since normal
             // stresses of round-off size no longer open a point).
-            let want = if kh_over_e > 5.0 && !(name != "paper" && kh_over_e < 100.0) {
+            let want = if name == "newton" && kh_over_e > 100.0 {
+                Category::NotConverged
+            } else if kh_over_e > 5.0 && !(name != "paper" && kh_over_e < 100.0) {
                 Category::StiffJoint
             } else {
                 Category::Converged

@@ -71,12 +71,13 @@ fn limit(sc: &Scene, case: &str) -> (f64, f64) {
         .as_ref()
         .unwrap_or_else(|| panic!("{case}: reached the whole load"));
     println!(
-        "{case}: limit {:.5}, failed at {:.5}, beyond capacity {}, {} steps, {solves} solves, {:.2} s",
+        "{case}: limit {:.5}, failed at {:.5}, beyond capacity {}, {} steps, {solves} solves, {:.2} s; {}",
         l.factor,
         l.failed_at,
         l.beyond_capacity,
         path.steps.len(),
-        t.elapsed().as_secs_f64()
+        t.elapsed().as_secs_f64(),
+        l.reason
     );
     assert!(l.beyond_capacity, "{case}: not a limit load: {}", l.reason);
     (l.factor, l.failed_at)

@@ -1,7 +1,11 @@
-//! The fixed data of the stiff-joint preconditioner (formed in
-//! `precondition`, kept by `Setup` for the whole run).
+//! The fixed data of the stiff-joint preconditioner (formed in `banded`,
+//! kept by `Setup` for the whole run).
 
-use nalgebra::DMatrix;
+use faer::sparse::linalg::lu::SymbolicLu;
+use nalgebra::{DMatrix, Matrix3};
+
+/// Per pair with jumps a member cannot have, the projector onto them.
+pub(super) type NullBlocks = Vec<(usize, Matrix3<f64>)>;
 
 /// The preconditioner's fixed data, formed once per run
 /// (`Setup::interface`).
@@ -20,12 +24,37 @@ pub(super) struct Interface {
     pub(super) point_pairs: Vec<Vec<usize>>,
     pub(super) b: Vec<DMatrix<f64>>,
     pub(super) g: Vec<DMatrix<f64>>,
-    /// Whether the coupled system is small enough for its dense LU
-    /// (`members x n_r <= coupled_max`): the fallback when GMRES fails.
-    pub(super) dense_allowed: bool,
     /// Every (harmonic index, family).
     pub(super) members: Vec<(usize, usize)>,
     /// `(a, a, b)` of each member at each section (section-major), for
     /// `D_r` applied through the sections.
     pub(super) phi: Vec<[f64; 3]>,
+    /// The interface's Schur complement on the pair jumps, per distinct
+    /// member kind: `(Z_r' + N)^-1`, `Z_r'` the member's `Z_r` on the
+    /// components it uses and N the projector onto the jumps it cannot
+    /// have (a component its basis lacks at m = 0, a pair on the axis).
+    pub(super) schur: Vec<DMatrix<f64>>,
+    /// The index into `schur` of every member.
+    pub(super) schur_of: Vec<usize>,
+    /// Per member, the pairs with such jumps and N there (3 x 3).
+    pub(super) null: Vec<NullBlocks>,
+    /// The sparse pattern of the banded system and its symbolic LU.
+    pub(super) banded: Banded,
+}
+
+/// The pattern of the banded interface system over every member, in the
+/// coupled system's unknowns (member-major, `n_r` per member): the
+/// entries between the pairs of one joint point, for every two members.
+pub(super) struct Banded {
+    pub(super) n: usize,
+    pub(super) col_ptr: Vec<usize>,
+    pub(super) row_idx: Vec<usize>,
+    /// The Schur complements' entries in the pattern (the constant part).
+    pub(super) base: Vec<f64>,
+    /// Per point, where its blocks start in `slot` (`members^2` blocks of
+    /// `(3 n_f)^2` entries, column-major within each block).
+    pub(super) slot_start: Vec<usize>,
+    /// The value index of every entry of every point block.
+    pub(super) slot: Vec<u32>,
+    pub(super) symbolic: Option<SymbolicLu<usize>>,
 }

@@ -38,17 +38,19 @@
 //!   (`attempt`): `fixed_point` (the paper's and Anderson's iterations) or
 //!   `newton` (Newton-Krylov on a `formulation`: its nodal form, or the
 //!   `traction` form for joints stiffer than their elements, with the
-//!   `precondition`er and its fixed `interface` data);
+//!   `precondition`er, its fixed `interface` data and `banded` interface
+//!   system, solved by `gmres`);
 //! - `steps`: the load path, step by step.
 //!
 //! Beneath them `types` (the public types) and `diagnosis` (why a run
 //! stopped); beside them `probe` ([`FixedPoint`], for tests). A module
 //! imports only modules below it: types, body, eval, transfer, interface, state
-//! <- setup <- attempt, diagnosis <- sweep <- release <- formulation,
-//! precondition <- traction <- newton, fixed_point <- method <- steps <-
+//! <- setup <- attempt, diagnosis, banded <- sweep <- release <- formulation,
+//! gmres, precondition <- traction <- newton, fixed_point <- method <- steps <-
 //! entry (probe above traction). This file holds nothing they import.
 
 mod attempt;
+mod banded;
 mod body;
 mod dense_lu;
 mod diagnosis;
@@ -56,6 +58,7 @@ mod entry;
 mod eval;
 mod fixed_point;
 mod formulation;
+mod gmres;
 mod interface;
 mod method;
 mod newton;
@@ -81,6 +84,6 @@ pub use steps::{
 };
 pub use sweep::OBSERVED_UP_TO;
 pub use types::{
-    joint_point_infos, BodyField, IterationError, IterationRecord, IterationSettings, JointField, JointStart,
-    Method, Outcome, PointInfo, Problem, StageEnd, StageStart, StepBodies,
+    joint_point_infos, BodyField, InterfaceSolve, IterationError, IterationRecord, IterationSettings,
+    JointField, JointStart, Method, Outcome, PointInfo, Problem, StageEnd, StageStart, StepBodies,
 };

@@ -572,11 +572,12 @@ struct Stall {
 }
 
 impl Stall {
-    fn new(r_norm: f64, window: u32) -> Self {
+    /// Watching from step `at` on, where `|R| = r_norm`.
+    fn new(r_norm: f64, window: u32, at: u32) -> Self {
         Stall {
             window,
             best: r_norm,
-            best_at: 1,
+            best_at: at,
             fallbacks: VecDeque::new(),
         }
     }
@@ -681,7 +682,7 @@ fn solve(
     let mut total = first_solves;
     let mut r_norm = norm(&it.res);
     let (mut r_prev, mut eta) = (r_norm, 0.5f64);
-    let mut stall = Stall::new(r_norm, form.stall_window());
+    let mut stall = Stall::new(r_norm, form.stall_window(), 1);
     let mut watchdog = Watchdog::new(form.watchdog());
     let eta_floor = 0.5 * settings.epsilon * psi0;
     let eta_max = form.eta_max();
@@ -735,7 +736,10 @@ fn solve(
             // The same iterate under the smoothed residual (no sweep).
             form.residual(&it.y, &mut it.acc, &mut it.res);
             r_norm = norm(&it.res);
-            stall = Stall::new(r_norm, form.stall_window());
+            // (A new window from this step: from step 1, a switch after
+            // the window's length of steps stalled at once, a false limit
+            // load on the torsion block at k h / E = 1e4.)
+            stall = Stall::new(r_norm, form.stall_window(), step);
         }
         if watchdog.watching() {
             form.forces(&it.y, &mut it.x);

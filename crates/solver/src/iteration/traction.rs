@@ -34,17 +34,17 @@
 //! `J = Dd (Dd^-1 Dv k_a V - I)`: the nodal form's Jacobian with the
 //! tangent `Dd^-1 Dv` (stick: `1 - k / k_a`, as the nodal form), row-scaled
 //! by Dd. Its preconditioner is the nodal one on that tangent
-//! ([`BlockPreconditioner`]): `J^-1 r = -(y + Dd^-1 Dv k_a B S P^-1 A G y)`,
+//! ([`StiffPreconditioner`]): `J^-1 r = -(y + Dd^-1 Dv k_a B S P^-1 A G y)`,
 //! `y = Dd^-1 r`, exact when the interface is small.
 
 use super::attempt::Start;
 use super::eval::Eval;
 use super::formulation::{Formulation, NEWTON_ETA_MAX_STIFF, NEWTON_HALVINGS_STIFF, NEWTON_STALL_STIFF};
-use super::precondition::BlockPreconditioner;
+use super::precondition::StiffPreconditioner;
 use super::release::{law_tangent, Tangent};
 use super::sweep::Sweep;
 use super::transfer::JointAmplitudes;
-use super::types::IterationSettings;
+use super::types::{InterfaceSolve, IterationSettings};
 use nalgebra::Matrix3;
 use rayon::prelude::*;
 
@@ -63,11 +63,9 @@ pub(super) struct Traction<'s, 'a> {
     dd_inv: Vec<M3>,
     /// `Dd^-1 Dv` per (section, point): the preconditioner's tangent.
     tangents: Vec<Tangent>,
-    pre: Option<BlockPreconditioner>,
-    /// See [`IterationSettings::coupled_max`](super::types::IterationSettings::coupled_max).
-    coupled_max: usize,
-    /// See [`IterationSettings::gmres_first`](super::types::IterationSettings::gmres_first).
-    gmres_first: bool,
+    pre: Option<StiffPreconditioner>,
+    /// See [`IterationSettings::interface_solve`](super::types::IterationSettings::interface_solve).
+    interface_solve: InterfaceSolve,
     /// See [`IterationSettings::watchdog`](super::types::IterationSettings::watchdog).
     watchdog: bool,
     /// Whether the normal rows are in Fischer-Burmeister form.
@@ -79,8 +77,7 @@ pub(super) struct Traction<'s, 'a> {
 
 impl<'s, 'a> Traction<'s, 'a> {
     pub(super) fn new(sweep: Sweep<'s, 'a>, settings: &IterationSettings) -> Self {
-        let (coupled_max, gmres_first, watchdog) =
-            (settings.coupled_max, settings.gmres_first, settings.watchdog);
+        let (interface_solve, watchdog) = (settings.interface_solve, settings.watchdog);
         let setup = sweep.setup;
         let rho = setup.model.joints.iter().map(|j| j.softening()).collect();
         let n = setup.n_pairs();
@@ -92,8 +89,7 @@ impl<'s, 'a> Traction<'s, 'a> {
             dd_inv: vec![I3; n],
             tangents: vec![None; n],
             pre: None,
-            coupled_max,
-            gmres_first,
+            interface_solve,
             watchdog,
             fischer: false,
             x: vec![0.0; setup.len()],
@@ -250,8 +246,7 @@ impl Formulation for Traction<'_, '_> {
             dd_inv,
             tangents,
             pre,
-            coupled_max,
-            gmres_first,
+            interface_solve,
             fischer: smoothed,
             ..
         } = self;
@@ -300,7 +295,7 @@ impl Formulation for Traction<'_, '_> {
         // it while the states stay the same (the slip tangents move) cost
         // 2 -> 15 load steps at k_eta h / E = 1e5 on Scene P and stopped
         // 1e6 at lambda = 0.
-        let pre = pre.get_or_insert_with(|| BlockPreconditioner::new(s, *coupled_max, *gmres_first));
+        let pre = pre.get_or_insert_with(|| StiffPreconditioner::new(s, *interface_solve));
         pre.update(tangents);
     }
 

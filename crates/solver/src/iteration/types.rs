@@ -109,16 +109,9 @@ pub struct IterationSettings {
     /// No equilibrium when the residual ratio makes no new minimum (by 0.1 %)
     /// within this many iterations (fixed-point methods).
     pub stall_window: u32,
-    /// Largest interface, in pair unknowns over the harmonics, whose
-    /// coupled tangent the stiff-joint preconditioner factorizes densely
-    /// (an LU of that order per Newton step); a larger one is solved by
-    /// GMRES on the per-harmonic blocks (docs/stability.md).
-    pub coupled_max: usize,
-    /// Below `coupled_max`, whether GMRES solves the coupled tangent first
-    /// (the dense LU where it does not converge, and from the start for a
-    /// small system or a joint far stiffer than rigid); `false`: the dense
-    /// LU from the start (the reference).
-    pub gmres_first: bool,
+    /// How the stiff-joint preconditioner solves its coupled interface
+    /// system (docs/stability.md).
+    pub interface_solve: InterfaceSolve,
     /// Whether Newton on a softened joint's tractions breaks a crawl of
     /// short line-search steps with a whole step under a watchdog
     /// (docs/theory.md, "The three methods"); `false`: the monotone line
@@ -126,13 +119,20 @@ pub struct IterationSettings {
     pub watchdog: bool,
 }
 
-/// Largest order of the coupled interface tangent factorized densely, in
-/// the relative displacements of the joint's node pairs (half the
-/// joint-node unknowns): an LU of order 6000 takes about 2 s on 2 cores.
-/// Measured on the pile in soil with k_eta h / E = 100 (order 2550):
-/// converges in 1 load step; block-diagonal, it stopped at lambda = 0 (100
-/// sweeps per Newton step did not reach the forcing term).
-pub(crate) const COUPLED_MAX: usize = 6000;
+/// How the stiff-joint preconditioner of Newton's traction form solves the
+/// interface system that couples the harmonics (module `precondition`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum InterfaceSolve {
+    /// GMRES on its Schur form, preconditioned by the sparse LU of its
+    /// element-banded part (the joint's tangent whole, the bodies' coupling
+    /// of the pairs of one joint point): about ten iterations at every
+    /// stiffness, a cost that grows with the interface, not its cube.
+    #[default]
+    Banded,
+    /// The dense LU of the whole system (order: harmonics x families x
+    /// pair unknowns) at every Newton step: the exact reference.
+    Dense,
+}
 
 impl Default for IterationSettings {
     fn default() -> Self {
@@ -141,8 +141,7 @@ impl Default for IterationSettings {
             epsilon: 1e-6,
             max_iterations: 500,
             stall_window: 40,
-            coupled_max: COUPLED_MAX,
-            gmres_first: true,
+            interface_solve: InterfaceSolve::Banded,
             watchdog: true,
         }
     }
