@@ -341,7 +341,7 @@ pub enum IterationError {
     },
     /// The iteration stalled on a joint much stiffer than its elements:
     /// whether an equilibrium exists cannot be told.
-    #[error("not converged: {reason}; joint '{joint}' is much stiffer than the elements along it (k h / E = {stiffness:.1}): the paper and anderson methods keep the elastic joint stiffness in K_m, so a released traction comes back through the same stiff spring and the iteration crawls; newton (the default, with load steps) iterates on the released tractions there and converged up to k h / E = 1e6 on the measured cases with the default sections (docs/stability.md), slower where the interface has more than 6000 pair unknowns over the harmonics. This does not show that the load exceeds what the joint can carry; use newton with load steps and the default sections, soften the joint (k h / E of about 1 suffices for every method), or refine the mesh along it (iteration {iteration})")]
+    #[error("not converged: {reason}; joint '{joint}' is much stiffer than the elements along it (k h / E = {stiffness:.1}): the paper and anderson methods keep the elastic joint stiffness in K_m, so a released traction comes back through the same stiff spring and the iteration crawls; newton (the default, with load steps) iterates on the released tractions there and converged up to k h / E = 1e6 on the measured cases with the default sections (docs/stability.md). This does not show that the load exceeds what the joint can carry; use newton with load steps and the default sections, soften the joint (k h / E of about 1 suffices for every method), or refine the mesh along it (iteration {iteration})")]
     StiffJoint {
         /// The joint with the largest residual.
         joint: String,
