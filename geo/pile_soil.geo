@@ -23,6 +23,9 @@
 //
 // Parameters (override with gmsh -setnumber NAME VALUE, or axijoint --set):
 //   a           pile radius [m] (default 0.5)
+//   L           pile length [m] (default 10)
+//   R           soil cylinder radius [m] (default 10)
+//   H           soil depth [m] (default 20)
 //   size        element size along the pile side and base [m]
 //   coarsen     far-field element size / size (far size 2 m at the defaults)
 //   order       1 = linear, 2 = quadratic elements
@@ -35,9 +38,9 @@ If (!Exists(quads)) quads = 1; EndIf
 If (!Exists(serendipity)) serendipity = 0; EndIf
 
 If (!Exists(a)) a = 0.5; EndIf  // pile radius
-L = 10.0;    // pile length (head at z = 0, toe at z = -L)
-R = 10.0;    // soil cylinder radius
-H = 20.0;    // soil depth (bottom at z = -H)
+If (!Exists(L)) L = 10.0; EndIf  // pile length (head at z = 0, toe at z = -L)
+If (!Exists(R)) R = 10.0; EndIf  // soil cylinder radius
+If (!Exists(H)) H = 20.0; EndIf  // soil depth (bottom at z = -H)
 far = coarsen * size;
 
 Point(1) = {0, 0, 0, size};     // pile head centre (axis)

@@ -1,7 +1,8 @@
 //! Joint stiffness from physics (issue 25, item 2): `"stiffness": "rigid"`
 //! and `{"thickness": t}` resolved on real gmsh meshes of `geo/`, the
 //! bonded answer of a stuck rigid joint, and the mesh independence of
-//! rigid joints against springs chosen from the mesh.
+//! rigid joints against springs chosen from the mesh; the Gauss and
+//! Lobatto rules on a rigid joint that opens and slips.
 //!
 //! Run with `--nocapture` to see the measured numbers
 //! (docs/stability.md, "Which stiffness to choose").
@@ -328,4 +329,59 @@ fn rigid_joints_are_mesh_independent_and_springs_from_the_mesh_are_not() {
     let n = change(head(&nonlinear, 0.25), head(&nonlinear, 0.125));
     println!("  change: lateral {:.3e}, axial {:.3e}", n[0], n[1]);
     assert!(n[0] < 5e-3 && n[1] < 5e-3, "rigid Mohr-Coulomb: {n:?}");
+}
+
+/// The pile in soil (`geo/pile_soil.json`, no gravity, 0.2 MN sideways)
+/// with its Mohr-Coulomb joints made rigid, on the Gauss rule and on the
+/// Lobatto rule (points at the nodes): both open and slip, and the head
+/// displacement agrees within 5e-4 (the rules integrate the joint
+/// differently; measured 4.8e-5). Lobatto's iteration is the cheaper one
+/// here (docs/stability.md, "Why the traction form slows down as k
+/// grows"); the answer must not depend on it.
+#[test]
+fn gauss_and_lobatto_rules_agree_on_a_rigid_joint_that_opens_and_slips() {
+    use axijoint_solver::scene::RuleKind;
+    let _guard = serial();
+    let mut rigid = with_joints(
+        scene("pile_soil.json"),
+        scene("pile_soil.json").joints["pile_side"].law,
+        Some(StiffnessSpec::Rigid),
+    );
+    // 0.2 MN sideways instead of 0.05: the shaft also slips.
+    match &mut rigid.loads[0] {
+        axijoint_solver::scene::Load::Resultant(l) => l.force[0] = 0.2,
+        _ => panic!("pile_soil.json's load is a resultant"),
+    }
+    let on_rule = |rule: RuleKind| {
+        let mut sc = rigid.clone();
+        for j in sc.joints.values_mut() {
+            j.rule = rule;
+        }
+        let t = Instant::now();
+        let run = solve(&sc);
+        let last = *run
+            .outcome
+            .as_ref()
+            .expect("the nonlinear iteration ran")
+            .history
+            .last()
+            .expect("a history");
+        let u = face(&run, "pile_head");
+        println!(
+            "{rule:?}: head {}, {} open and {} slipping point-sections, {:.2} s",
+            sci(u),
+            last.open,
+            last.slip,
+            t.elapsed().as_secs_f64()
+        );
+        assert!(
+            last.open > 0 && last.slip > 0,
+            "{rule:?}: the joints open and slip"
+        );
+        u
+    };
+    let (gauss, lobatto) = (on_rule(RuleKind::Gauss), on_rule(RuleKind::Lobatto));
+    let d = rel(lobatto, gauss);
+    println!("Lobatto against Gauss: {d:.2e}");
+    assert!(d < 5e-4, "the rules differ by {d:.3e}");
 }
