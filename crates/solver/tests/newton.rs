@@ -21,6 +21,7 @@
 use axijoint_solver::error::SolverError;
 use axijoint_solver::iteration::{
     stress_transfer, FixedPoint, InterfaceSolve, IterationError, IterationRecord, IterationSettings, Method,
+    TANGENT_RHO_FLOOR,
 };
 use axijoint_solver::joint_law::{state_counts, JointState};
 use axijoint_solver::run::{scene_sections, solve_linear, solve_scene};
@@ -194,14 +195,31 @@ fn traction_form_jacobian_matches_a_finite_difference() {
             "{kh}: open {open}, slip {slip}, stick {stick}"
         );
         let v = noise(tau.len(), 11);
-        let jv = fp.traction_jacobian_vector(&tau, &v);
+        let jv = fp.traction_jacobian_vector(&tau, &v, 0.0);
         let (fd, _) = central_difference(|t| fp.traction_residual(t), &tau, &v, &format!("k h / E = {kh}"));
         let err: Vec<f64> = jv.iter().zip(&fd).map(|(a, b)| a - b).collect();
         let rel = norm(&err) / norm(&jv);
+        // The iteration's own linearization (R floored at
+        // TANGENT_RHO_FLOOR): the exact one where the joint's R = k_a / k
+        // is above the floor (k h / E = 100: R of about 1e-2), an
+        // approximation below it (1e5).
+        let floored = fp.traction_jacobian_vector(&tau, &v, TANGENT_RHO_FLOOR);
+        let off: Vec<f64> = floored.iter().zip(&jv).map(|(a, b)| a - b).collect();
+        let off = norm(&off) / norm(&jv);
         println!(
-            "traction form, k h / E = {kh}: {open} open, {slip} slip, {stick} stick; |J v - FD| / |J v| = {rel:.2e}"
+            "traction form, k h / E = {kh}: {open} open, {slip} slip, {stick} stick; |J v - FD| / |J v| = {rel:.2e}; floored J: {off:.2e} from J"
         );
         assert!(rel < 1e-6, "k h / E = {kh}: J v vs finite difference {rel:.2e}");
+        if kh < 1e3 {
+            assert_eq!(off, 0.0, "k h / E = {kh}: R is above the floor");
+        } else {
+            // The floor changes the stuck rows by at most its size times
+            // their part of v (measured 4.4e-5).
+            assert!(
+                off > 0.0 && off < 10.0 * TANGENT_RHO_FLOOR,
+                "k h / E = {kh}: the floored J is {off:.2e} from J"
+            );
+        }
     }
 }
 

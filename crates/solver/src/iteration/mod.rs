@@ -86,4 +86,5 @@ pub use sweep::OBSERVED_UP_TO;
 pub use types::{
     joint_point_infos, BodyField, InterfaceSolve, IterationError, IterationRecord, IterationSettings,
     JointField, JointStart, Method, Outcome, PointInfo, Problem, StageEnd, StageStart, StepBodies,
+    TANGENT_RHO_FLOOR,
 };

@@ -83,11 +83,17 @@ impl<'a> FixedPoint<'a> {
     }
 
     /// `J v` of the traction form at `tau`, at the states of `tau` (two
-    /// sweeps).
-    pub fn traction_jacobian_vector(&self, tau: &[f64], v: &[f64]) -> Vec<f64> {
+    /// sweeps), linearized with `R >= rho_floor`
+    /// ([`IterationSettings::tangent_rho_floor`](super::IterationSettings::tangent_rho_floor);
+    /// 0: the exact Jacobian).
+    pub fn traction_jacobian_vector(&self, tau: &[f64], v: &[f64], rho_floor: f64) -> Vec<f64> {
         let s = &self.setup;
         let (_, ev) = self.traction_eval(tau);
-        let mut form = Traction::new(self.sweep(), &super::types::IterationSettings::default());
+        let settings = super::types::IterationSettings {
+            tangent_rho_floor: rho_floor,
+            ..Default::default()
+        };
+        let mut form = Traction::new(self.sweep(), &settings);
         form.linearize(tau, &ev);
         let mut released = s.transfer.zeros();
         let mut x = vec![0.0; s.len()];

@@ -70,6 +70,8 @@ pub(super) struct Traction<'s, 'a> {
     watchdog: bool,
     /// Whether the normal rows are in Fischer-Burmeister form.
     fischer: bool,
+    /// See [`IterationSettings::tangent_rho_floor`].
+    rho_floor: f64,
     /// Scratch: section forces and displacements.
     x: Vec<f64>,
     u_s: Vec<f64>,
@@ -92,6 +94,7 @@ impl<'s, 'a> Traction<'s, 'a> {
             interface_solve,
             watchdog,
             fischer: false,
+            rho_floor: settings.tangent_rho_floor,
             x: vec![0.0; setup.len()],
             u_s: vec![0.0; setup.len()],
         }
@@ -248,9 +251,10 @@ impl Formulation for Traction<'_, '_> {
             pre,
             interface_solve,
             fischer: smoothed,
+            rho_floor,
             ..
         } = self;
-        let fischer_on = *smoothed;
+        let (fischer_on, rho_floor) = (*smoothed, *rho_floor);
         let (sweep, s) = (&*sweep, sweep.setup);
         let n_p = s.points.len().max(1);
         dvk.par_iter_mut()
@@ -266,7 +270,7 @@ impl Formulation for Traction<'_, '_> {
                 let rate = s.opening_rate(joint, &s.model.joints[joint].assembled);
                 let e = law_tangent(law, sweep.state.history_of(k), z, ev.state[k], rate)
                     .unwrap_or([[0.0; 3]; 3]);
-                let rho = rho[joint];
+                let rho = rho[joint].map(|r| r.max(rho_floor));
                 let ka = s.model.joints[joint].assembled;
                 let ka = [ka.k_xi, ka.k_eta, ka.k_theta];
                 let mut dv = [[0.0; 3]; 3];

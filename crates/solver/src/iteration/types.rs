@@ -117,7 +117,21 @@ pub struct IterationSettings {
     /// (docs/theory.md, "The three methods"); `false`: the monotone line
     /// search alone (the reference).
     pub watchdog: bool,
+    /// The smallest `R = k_a / k` that Newton's traction form linearizes
+    /// with (its residual keeps the joint's own R; 0: the exact Jacobian).
+    /// Default [`TANGENT_RHO_FLOOR`].
+    pub tangent_rho_floor: f64,
 }
+
+/// The default [`IterationSettings::tangent_rho_floor`]. On a stuck point
+/// the traction form's Jacobian weighs the point tractions that no node
+/// sees (Gauss points beyond the face nodes, sections beyond the
+/// harmonics) by `R = k_a / k` alone, so with `k > 1e4 k_a` their Newton
+/// step, `1 / R` times a small residual, opened and slipped the points
+/// around them: the pile in soil at `k h / E` = 1e6 crawled for minutes,
+/// and with this floor converges in 59 Newton steps (a floor of 1e-3 took
+/// 439 at 1e5 against 127; docs/stability.md, item 12).
+pub const TANGENT_RHO_FLOOR: f64 = 1e-4;
 
 /// How the stiff-joint preconditioner of Newton's traction form solves the
 /// interface system that couples the harmonics (module `precondition`).
@@ -143,6 +157,7 @@ impl Default for IterationSettings {
             stall_window: 40,
             interface_solve: InterfaceSolve::Banded,
             watchdog: true,
+            tangent_rho_floor: TANGENT_RHO_FLOOR,
         }
     }
 }
