@@ -66,6 +66,7 @@ mod precondition;
 mod probe;
 mod release;
 mod setup;
+mod stall;
 mod state;
 mod steps;
 mod sweep;
