@@ -153,9 +153,9 @@ mod tests {
             w.note(Some(CRAWL_LAMBDA));
         }
         assert!(w.relax());
-        // A long step ends a crawl; a watch that gets below its checkpoint
-        // stands.
-        w.note(Some(0.5));
+        // A whole step ends a crawl; a watch that gets below its
+        // checkpoint stands.
+        w.note(Some(1.0));
         assert!(!w.relax());
         w.watch(checkpoint(1.0));
         assert!(matches!(w.verdict(0.5, false), Verdict::Go));
