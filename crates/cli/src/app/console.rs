@@ -260,8 +260,26 @@ fn print_member(m: &axijoint_solver::members::MemberForces, force: &str, length:
     let key = m.summary();
     // A bending moment above round-off of the load times the length.
     let length_of = m.stations.first().map_or(0.0, |a| a.z) - m.stations.last().map_or(0.0, |b| b.z);
-    let scale = s.applied.iter().map(|f| f.abs()).fold(0.0, f64::max) * length_of;
-    if lateral > 0.0 || key.max_moment > 1e-9 * scale {
+    let scale = [s.applied, s.weight, s.shaft, s.base]
+        .iter()
+        .flatten()
+        .map(|f| f.abs())
+        .fold(0.0, f64::max)
+        * length_of;
+    if lateral == 0.0 && key.max_moment > 1e-9 * scale {
+        // Bent by its surroundings alone (a lining, a pile in moving soil):
+        // the lateral reactions themselves, there is no load to share.
+        crate::say!(
+            "  member {}: no lateral load on it; lateral reaction (Fx, Fy) on the shaft ({:+.4e}, {:+.4e}) {force}, on the base ({:+.4e}, {:+.4e}) {force}; largest bending moment {:.4e} {force} {length} at z = {:.4} {length}",
+            m.body,
+            s.shaft[0] + 0.0,
+            s.shaft[1] + 0.0,
+            s.base[0] + 0.0,
+            s.base[1] + 0.0,
+            key.max_moment,
+            key.max_moment_z
+        );
+    } else if lateral > 0.0 {
         let along = |v: [f64; 3]| {
             if lateral > 0.0 {
                 (v[0] * s.applied[0] + v[1] * s.applied[1]) / lateral
