@@ -267,6 +267,27 @@ pub(super) fn unbalanced(
     imbalance: f64,
     history: Vec<IterationRecord>,
 ) -> IterationError {
+    let reason = format!(
+        "the residual converged, but the reactions miss {:.1} % of the load: the open and sliding joints or the yielding soil leave a body free to move (a mechanism), and the displacements grew until rounding made them meaningless",
+        100.0 * imbalance
+    );
+    mechanism(setup, ev, reason, history)
+}
+
+/// A converged step whose displacements grew `ratio` times faster with
+/// the load than in the path's first step: no equilibrium, a mechanism
+/// the residual cannot see (the joints carry their strength whatever the
+/// motion along it).
+pub(super) fn runaway(setup: &Setup, ev: &Eval, ratio: f64, history: Vec<IterationRecord>) -> IterationError {
+    let reason = format!(
+        "the residual converged, but the displacements grew {ratio:.1e} times faster with the load than in the first step: the open and sliding joints or the yielding soil leave a body free to move (a mechanism), so the displacements are arbitrary"
+    );
+    mechanism(setup, ev, reason, history)
+}
+
+/// No equilibrium for `reason`, naming the joint with the most open or
+/// sliding pairs in `ev`.
+fn mechanism(setup: &Setup, ev: &Eval, reason: String, history: Vec<IterationRecord>) -> IterationError {
     let n_p = setup.points.len().max(1);
     let mut yielded = vec![0usize; setup.model.mesh.joints.len()];
     let (mut open, mut slip) = (0, 0);
@@ -290,10 +311,7 @@ pub(super) fn unbalanced(
     IterationError::NoEquilibrium {
         last: None,
         joint,
-        reason: format!(
-            "the residual converged, but the reactions miss {:.1} % of the load: the open and sliding joints or the yielding soil leave a body free to move (a mechanism), and the displacements grew until rounding made them meaningless",
-            100.0 * imbalance
-        ),
+        reason,
         open,
         slip,
         total: ev.state.len(),

@@ -37,13 +37,13 @@
 //! whatever its size.
 
 use super::attempt::{Converged, Start};
-use super::diagnosis::unbalanced;
+use super::diagnosis::{runaway, unbalanced};
 use super::method;
 use super::release::reference_release;
 use super::setup::Setup;
 use super::state::History;
 use super::state::LoadState;
-use super::sweep::{Sweep, IMBALANCE_TOL};
+use super::sweep::{Sweep, IMBALANCE_TOL, OBSERVED_UP_TO};
 use super::types::StepBodies;
 use super::types::{
     solves, IterationError, IterationRecord, IterationSettings, JointField, Outcome, StageEnd,
@@ -83,6 +83,15 @@ pub const PATH_MIN: f64 = 1.0 / 64.0;
 /// times [`PATH_TOL`]: enough to compare it with its halves; kept only
 /// after converging the rest of the way.
 pub const PATH_ACCURACY: f64 = 0.1;
+
+/// A converged step whose loaded model moved this many times faster with
+/// the load than in the path's first step is a mechanism, not an
+/// equilibrium: the joints (or the yielding soil) carry their strength
+/// whatever the motion along it, so the residual converges and the
+/// displacement is arbitrary (a plate anchor pulled at an angle, all its
+/// interface points open or sliding: about twice the first step's rate one
+/// step before its capacity, 2.1e9 times at it; docs/loading.md).
+pub const RUNAWAY: f64 = 1e6;
 
 /// How the load is raised.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -287,6 +296,15 @@ struct Path<T> {
     steps: Vec<LoadStep<T>>,
     cutbacks: u32,
     spent: u32,
+    /// Harmonics 0..=[`OBSERVED_UP_TO`] of the last converged step (`None`
+    /// with `u_known`: zero, the unloaded start).
+    u_c: Option<Displacements>,
+    /// Whether the displacements at `lam_c` are known (not at the start of
+    /// a stage after another).
+    u_known: bool,
+    /// The displacement rate (max |du| / dlambda) of the first step whose
+    /// start is known.
+    rate_ref: Option<f64>,
 }
 
 impl<T> Path<T> {
@@ -304,6 +322,9 @@ impl<T> Path<T> {
                 steps: Vec::new(),
                 cutbacks: 0,
                 spent: 0,
+                u_c: None,
+                u_known: false,
+                rate_ref: None,
             };
         }
         let committed = History {
@@ -324,6 +345,9 @@ impl<T> Path<T> {
             steps: Vec::new(),
             cutbacks: 0,
             spent: 0,
+            u_c: None,
+            u_known: true,
+            rate_ref: None,
         }
     }
 
@@ -353,6 +377,20 @@ impl<T> Path<T> {
                 let e = unbalanced(setup, &conv.ev, imbalance, conv.history);
                 return (easy, Some((target, e)));
             }
+            // Nor is a converged residual a bounded motion (RUNAWAY).
+            if self.u_known {
+                let rate = largest_change(&displacements, self.u_c.as_ref()) / (target - self.lam_c).abs();
+                match self.rate_ref {
+                    Some(r) if rate > RUNAWAY * r => {
+                        let e = runaway(setup, &conv.ev, rate / r, conv.history);
+                        return (easy, Some((target, e)));
+                    }
+                    None if rate > 0.0 && rate.is_finite() => self.rate_ref = Some(rate),
+                    _ => {}
+                }
+            }
+            self.u_c = Some(observed_part(&displacements));
+            self.u_known = true;
             let field = sweep.field(&conv.ev);
             let bodies = StepBodies {
                 released: sweep.released_loads(&conv.x),
@@ -709,4 +747,33 @@ fn path_change(a: &[f64], b: &[f64]) -> f64 {
     } else {
         0.0
     }
+}
+
+/// Harmonics 0..=[`OBSERVED_UP_TO`] of `u` (what every step has).
+fn observed_part(u: &Displacements) -> Displacements {
+    Displacements {
+        harmonics: u
+            .harmonics
+            .iter()
+            .filter(|d| d.m <= OBSERVED_UP_TO)
+            .cloned()
+            .collect(),
+    }
+}
+
+/// The largest change of a node-DOF amplitude of harmonics
+/// 0..=[`OBSERVED_UP_TO`] from `before` (`None`: zero) to `u`.
+fn largest_change(u: &Displacements, before: Option<&Displacements>) -> f64 {
+    let mut out = 0.0f64;
+    for d in u.harmonics.iter().filter(|d| d.m <= OBSERVED_UP_TO) {
+        let b = before.and_then(|b| b.harmonics.iter().find(|e| e.m == d.m));
+        for (k, now) in [&d.symmetric, &d.antisymmetric].into_iter().enumerate() {
+            let was = b.map(|e| if k == 0 { &e.symmetric } else { &e.antisymmetric });
+            for (i, v) in now.iter().enumerate() {
+                let w = was.and_then(|w| w.get(i)).copied().unwrap_or(0.0);
+                out = out.max((v - w).abs());
+            }
+        }
+    }
+    out
 }

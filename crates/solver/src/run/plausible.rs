@@ -40,10 +40,12 @@ pub fn warnings(scene: &Scene, run: &Run) -> Vec<String> {
     let mut out = Vec::new();
     let u = max_displacement(mesh.nodes.len(), &run.displacements);
     if size > 0.0 && u > LARGE_DISPLACEMENT * size {
+        let part = match u / size {
+            r if r >= 10.0 => format!("{r:.1e} times"),
+            r => format!("{:.0} % of", 100.0 * r),
+        };
         out.push(format!(
-            "the largest displacement {} {length} is {:.0} % of the model's size {} {length}: a slip of units (a length in mm with forces in MN, a modulus in kPa with stresses in MPa?) or a load far beyond what the model carries",
-            Short(u),
-            100.0 * u / size,
+            "the largest displacement {u:.4e} {length} is {part} the model's size {} {length}: a slip of units (a length in mm with forces in MN, a modulus in kPa with stresses in MPa?) or a load far beyond what the model carries",
             Short(size)
         ));
     }
