@@ -288,7 +288,7 @@ fn edge_sides(
             return Err(invalid(
                 path,
                 format!(
-                    "{here} lies between bodies '{}' and '{}', not between '{}' (bottom) and '{}' (top)",
+                    "{here} lies between bodies '{}' and '{}', not between '{}' (bottom) and '{}' (top): a curve between one body and several (a pile through soil layers) takes one physical curve and one joint for each pair of bodies",
                     mesh.bodies[b0].name, mesh.bodies[b1].name, mesh.bodies[pb].name, mesh.bodies[pt].name
                 ),
             ))
