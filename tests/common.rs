@@ -32,6 +32,25 @@ pub fn axijoint(args: &[&str]) -> Output {
         .expect("axijoint runs")
 }
 
+/// `axijoint solve -q SCENE --set size=SIZE --harmonics M -o OUT`: whether
+/// it succeeded, and its stdout and stderr.
+pub fn solve_coarse(scene: &Path, out: &Path, size: f64, m: u32) -> (bool, String, String) {
+    let (size, m) = (format!("size={size}"), m.to_string());
+    let run = axijoint(&[
+        "solve",
+        "-q",
+        scene.to_str().unwrap(),
+        "--set",
+        &size,
+        "--harmonics",
+        &m,
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let (stdout, stderr) = text(&run);
+    (run.status.success(), stdout, stderr)
+}
+
 /// stdout and stderr of a run, as text.
 pub fn text(out: &Output) -> (String, String) {
     (

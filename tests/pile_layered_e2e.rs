@@ -11,24 +11,8 @@
 
 mod common;
 
-use common::{axijoint, geo, text};
+use common::{geo, solve_coarse};
 use serde_json::Value;
-
-fn solve(scene: &std::path::Path, out: &std::path::Path) -> (bool, String) {
-    let run = axijoint(&[
-        "solve",
-        "-q",
-        scene.to_str().unwrap(),
-        "--set",
-        "size=0.5",
-        "--harmonics",
-        "4",
-        "-o",
-        out.to_str().unwrap(),
-    ]);
-    let (stdout, stderr) = text(&run);
-    (run.status.success(), format!("{stdout}{stderr}"))
-}
 
 #[test]
 fn a_pile_through_two_layers_takes_one_joint_per_layer() {
@@ -48,7 +32,8 @@ fn a_pile_through_two_layers_takes_one_joint_per_layer() {
     joints.insert("pile_side".into(), side.take());
     let one = dir.path().join("one_joint.json");
     std::fs::write(&one, scene.to_string()).unwrap();
-    let (ok, said) = solve(&one, &dir.path().join("one"));
+    let (ok, stdout, stderr) = solve_coarse(&one, &dir.path().join("one"), 0.5, 4);
+    let said = stdout + &stderr;
     assert!(!ok, "{said}");
     assert!(
         said.contains("joint 'pile_side': line element")
@@ -59,8 +44,8 @@ fn a_pile_through_two_layers_takes_one_joint_per_layer() {
 
     // As shipped.
     let out = dir.path().join("out");
-    let (ok, said) = solve(&geo("pile_layered.json"), &out);
-    assert!(ok, "{said}");
+    let (ok, stdout, stderr) = solve_coarse(&geo("pile_layered.json"), &out, 0.5, 4);
+    assert!(ok, "{stdout}\n{stderr}");
     let solution: Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("solution.json")).unwrap()).unwrap();
     let springs = &solution["extra"]["joint_springs"];

@@ -11,27 +11,15 @@
 
 mod common;
 
-use common::{axijoint, geo, text};
+use common::{geo, solve_coarse};
 use serde_json::Value;
 
 #[test]
 fn a_lining_bent_by_its_surroundings_reports_their_lateral_reactions() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
-    let scene = geo("shaft_lining.json");
-    let run = axijoint(&[
-        "solve",
-        "-q",
-        scene.to_str().unwrap(),
-        "--set",
-        "size=1",
-        "--harmonics",
-        "4",
-        "-o",
-        out.to_str().unwrap(),
-    ]);
-    let (stdout, stderr) = text(&run);
-    assert!(run.status.success(), "{stdout}\n{stderr}");
+    let (ok, stdout, stderr) = solve_coarse(&geo("shaft_lining.json"), &out, 1.0, 4);
+    assert!(ok, "{stdout}\n{stderr}");
     let line = stdout
         .lines()
         .find(|l| l.contains("member lining:"))
