@@ -8,6 +8,12 @@
 //! factorization, or one whose cache is full, stops the writes). Where the
 //! disk is short or the folder is in memory (tmpfs), the values are
 //! dropped and a full solve factorizes again, as without the file.
+//!
+//! The file is written and read around the page cache (`O_DIRECT`, in
+//! aligned blocks through a small buffer) where its file system allows:
+//! a buffered write makes the kernel find a page of memory for every 4 KiB
+//! written, which on a virtual machine costs as much as the factorization
+//! (measured: 345 MB/s buffered, 1.7 GB/s direct, docs/performance.md).
 
 use std::fs::File;
 use std::io;
@@ -26,13 +32,24 @@ pub const FACTOR_DISK_ENV: &str = "AXIJOINT_FACTOR_DISK";
 /// Free space a write leaves on the disk at least: 1 GiB.
 const RESERVE: u64 = 1 << 30;
 
+/// Alignment of a direct transfer's offsets, lengths and memory (the
+/// largest logical block size of Linux's file systems).
+const ALIGN: usize = 4096;
+
+/// Bytes a direct transfer moves through its buffer at a time.
+const CHUNK: usize = 1 << 20;
+
 /// The file of a model's written values; writes append.
 pub(crate) struct SpillFile {
     file: File,
+    /// Whether the file is written and read around the page cache.
+    direct: bool,
     dir: PathBuf,
     end: Mutex<u64>,
     /// Bytes per second of the last write.
     rate: Mutex<Option<f64>>,
+    /// Buffers of direct transfers done, for the next.
+    buffers: Mutex<Vec<Aligned>>,
 }
 
 /// Values written to a [`SpillFile`].
@@ -63,11 +80,14 @@ impl SpillFile {
         if in_memory(&file) {
             return None;
         }
+        let direct = set_direct(&file);
         Some(Arc::new(SpillFile {
             file,
+            direct,
             dir,
             end: Mutex::new(0),
             rate: Mutex::new(None),
+            buffers: Mutex::new(Vec::new()),
         }))
     }
 
@@ -86,11 +106,25 @@ impl SpillFile {
         let at = {
             let mut end = self.end.lock().ok()?;
             let at = *end;
-            *end += bytes;
+            *end += if self.direct {
+                padded(bytes as usize) as u64
+            } else {
+                bytes
+            };
             at
         };
         let t = Instant::now();
-        self.file.write_all_at(bytemuck::cast_slice(values), at).ok()?;
+        let bytes_of: &[u8] = bytemuck::cast_slice(values);
+        if self.direct {
+            let mut buffer = self.buffer();
+            for (k, part) in bytes_of.chunks(CHUNK).enumerate() {
+                let block = buffer.fill(part);
+                self.file.write_all_at(block, at + (k * CHUNK) as u64).ok()?;
+            }
+            self.give_back(buffer);
+        } else {
+            self.file.write_all_at(bytes_of, at).ok()?;
+        }
         if let Ok(mut rate) = self.rate.lock() {
             *rate = Some(bytes as f64 / t.elapsed().as_secs_f64().max(1e-9));
         }
@@ -102,19 +136,106 @@ impl SpillFile {
     }
 }
 
+impl SpillFile {
+    /// A buffer for a direct transfer: a kept one, else a new one.
+    fn buffer(&self) -> Aligned {
+        self.buffers
+            .lock()
+            .ok()
+            .and_then(|mut b| b.pop())
+            .unwrap_or_else(Aligned::new)
+    }
+
+    /// Keeps `buffer` for the next transfer.
+    fn give_back(&self, buffer: Aligned) {
+        if let Ok(mut b) = self.buffers.lock() {
+            b.push(buffer);
+        }
+    }
+}
+
 impl Spilled {
     /// The written values, followed by `rest`, in `out` (cleared first).
     pub(crate) fn read_then(&self, rest: &[f64], mut out: Vec<f64>) -> io::Result<Vec<f64>> {
         out.clear();
         out.try_reserve_exact(self.len + rest.len())
             .map_err(|_| io::Error::new(io::ErrorKind::OutOfMemory, "out of memory for a whole factor"))?;
-        out.resize(self.len, 0.0);
-        self.file
-            .file
-            .read_exact_at(bytemuck::cast_slice_mut(&mut out[..]), self.at)?;
+        if self.file.direct {
+            let mut buffer = self.file.buffer();
+            let per = CHUNK / 8;
+            for k in 0..self.len.div_ceil(per) {
+                let n = per.min(self.len - k * per);
+                let block = buffer.block(8 * n);
+                self.file
+                    .file
+                    .read_exact_at(block, self.at + (k * CHUNK) as u64)?;
+                out.extend_from_slice(bytemuck::cast_slice(&block[..8 * n]));
+            }
+            self.file.give_back(buffer);
+        } else {
+            out.resize(self.len, 0.0);
+            self.file
+                .file
+                .read_exact_at(bytemuck::cast_slice_mut(&mut out[..]), self.at)?;
+        }
         out.extend_from_slice(rest);
         Ok(out)
     }
+}
+
+/// `n` rounded up to a multiple of [`ALIGN`].
+fn padded(n: usize) -> usize {
+    n.div_ceil(ALIGN) * ALIGN
+}
+
+/// A buffer of [`CHUNK`] bytes at an [`ALIGN`]ed address, for direct
+/// transfers.
+struct Aligned {
+    bytes: Vec<u8>,
+    skip: usize,
+}
+
+impl Aligned {
+    fn new() -> Self {
+        let bytes = vec![0u8; CHUNK + ALIGN];
+        let skip = bytes.as_ptr().align_offset(ALIGN);
+        Aligned { bytes, skip }
+    }
+
+    /// The first `n` bytes (at most [`CHUNK`]), padded to [`ALIGN`].
+    fn block(&mut self, n: usize) -> &mut [u8] {
+        &mut self.bytes[self.skip..self.skip + padded(n)]
+    }
+
+    /// The block holding `part` (at most [`CHUNK`] bytes), zeros after it.
+    fn fill(&mut self, part: &[u8]) -> &[u8] {
+        let block = self.block(part.len());
+        block[..part.len()].copy_from_slice(part);
+        block[part.len()..].fill(0);
+        block
+    }
+}
+
+/// Sets `O_DIRECT` on `file` if its file system takes it (one aligned
+/// block written and read back); whether it is set.
+fn set_direct(file: &File) -> bool {
+    let fd = file.as_raw_fd();
+    // SAFETY: fcntl on an open descriptor reads and sets its status flags.
+    let flags = unsafe { libc::fcntl(fd, libc::F_GETFL) };
+    // SAFETY: as above.
+    if flags < 0 || unsafe { libc::fcntl(fd, libc::F_SETFL, flags | libc::O_DIRECT) } != 0 {
+        return false;
+    }
+    let mut buffer = Aligned::new();
+    let probe: Vec<u8> = (0..ALIGN).map(|i| (i % 251) as u8).collect();
+    let works = file.write_all_at(buffer.fill(&probe), 0).is_ok()
+        && file.read_exact_at(buffer.block(ALIGN), 0).is_ok()
+        && buffer.block(ALIGN) == probe.as_slice();
+    if !works {
+        // SAFETY: as above: back to the flags it had.
+        unsafe { libc::fcntl(fd, libc::F_SETFL, flags) };
+    }
+    works
 }
 
 /// Whether reduced factors can keep the rest of their values on disk here
@@ -168,11 +289,9 @@ fn in_memory(file: &File) -> bool {
 mod tests {
     use super::*;
 
-    #[test]
-    fn values_come_back_bit_for_bit_after_others() {
-        let Some(file) = SpillFile::open() else {
-            return; // no usable disk folder: nothing is written
-        };
+    /// Writes two arrays (one of several chunks and a partial block, one
+    /// of 24 bytes) and reads them back.
+    fn round_trip(file: &Arc<SpillFile>) {
         let a: Vec<f64> = (0..3_000_007).map(|i| (i as f64).sin() * 1e-300).collect();
         let b = vec![f64::MAX, -0.0, f64::MIN_POSITIVE];
         let sa = file.put(&a, f64::INFINITY).expect("written");
@@ -187,5 +306,37 @@ mod tests {
         );
         let back = sa.read_then(&[], Vec::new()).expect("read");
         assert!(back.len() == a.len() && back.iter().zip(&a).all(|(x, y)| x.to_bits() == y.to_bits()));
+    }
+
+    #[test]
+    fn values_come_back_bit_for_bit_after_others() {
+        let Some(file) = SpillFile::open() else {
+            return; // no usable disk folder: nothing is written
+        };
+        round_trip(&file);
+    }
+
+    #[test]
+    fn values_come_back_through_the_page_cache_too() {
+        let Some(file) = SpillFile::open() else {
+            return;
+        };
+        if file.direct {
+            // SAFETY: fcntl on an open descriptor reads and sets its flags.
+            unsafe {
+                let fd = file.file.as_raw_fd();
+                let flags = libc::fcntl(fd, libc::F_GETFL);
+                libc::fcntl(fd, libc::F_SETFL, flags & !libc::O_DIRECT);
+            }
+        }
+        let buffered = Arc::new(SpillFile {
+            file: file.file.try_clone().expect("a second descriptor"),
+            direct: false,
+            dir: file.dir.clone(),
+            end: Mutex::new(0),
+            rate: Mutex::new(None),
+            buffers: Mutex::new(Vec::new()),
+        });
+        round_trip(&buffered);
     }
 }
