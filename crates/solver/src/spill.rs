@@ -134,9 +134,7 @@ impl SpillFile {
             len: values.len(),
         })
     }
-}
 
-impl SpillFile {
     /// A buffer for a direct transfer: a kept one, else a new one.
     fn buffer(&self) -> Aligned {
         self.buffers
@@ -216,14 +214,24 @@ impl Aligned {
     }
 }
 
-/// Sets `O_DIRECT` on `file` if its file system takes it (one aligned
-/// block written and read back); whether it is set.
-fn set_direct(file: &File) -> bool {
+/// Sets or clears `O_DIRECT` on `file`; whether the call succeeded.
+fn direct_flag(file: &File, on: bool) -> bool {
     let fd = file.as_raw_fd();
     // SAFETY: fcntl on an open descriptor reads and sets its status flags.
     let flags = unsafe { libc::fcntl(fd, libc::F_GETFL) };
+    let want = if on {
+        flags | libc::O_DIRECT
+    } else {
+        flags & !libc::O_DIRECT
+    };
     // SAFETY: as above.
-    if flags < 0 || unsafe { libc::fcntl(fd, libc::F_SETFL, flags | libc::O_DIRECT) } != 0 {
+    flags >= 0 && unsafe { libc::fcntl(fd, libc::F_SETFL, want) } == 0
+}
+
+/// Sets `O_DIRECT` on `file` if its file system takes it (one aligned
+/// block written and read back); whether it is set.
+fn set_direct(file: &File) -> bool {
+    if !direct_flag(file, true) {
         return false;
     }
     let mut buffer = Aligned::new();
@@ -232,8 +240,7 @@ fn set_direct(file: &File) -> bool {
         && file.read_exact_at(buffer.block(ALIGN), 0).is_ok()
         && buffer.block(ALIGN) == probe.as_slice();
     if !works {
-        // SAFETY: as above: back to the flags it had.
-        unsafe { libc::fcntl(fd, libc::F_SETFL, flags) };
+        direct_flag(file, false);
     }
     works
 }
@@ -321,14 +328,7 @@ mod tests {
         let Some(file) = SpillFile::open() else {
             return;
         };
-        if file.direct {
-            // SAFETY: fcntl on an open descriptor reads and sets its flags.
-            unsafe {
-                let fd = file.file.as_raw_fd();
-                let flags = libc::fcntl(fd, libc::F_GETFL);
-                libc::fcntl(fd, libc::F_SETFL, flags & !libc::O_DIRECT);
-            }
-        }
+        assert!(direct_flag(&file.file, false), "O_DIRECT cleared");
         let buffered = Arc::new(SpillFile {
             file: file.file.try_clone().expect("a second descriptor"),
             direct: false,
