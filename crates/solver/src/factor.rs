@@ -18,6 +18,11 @@
 //!   columns to solve: the joint block, the top separators) go to faer's
 //!   dense triangular solve and product, which vectorize.
 //!
+//! - A full solve of such a right-hand side needs, beyond the trailing
+//!   block, only the backward solve of the other columns, last first: a
+//!   factor whose other columns are on disk ([`crate::spill`]) streams them
+//!   in that order through a small window ([`solve_trailing_whole`]).
+//!
 //! A simplicial factor (faer's choice for small or very sparse matrices) is
 //! solved by faer itself.
 
@@ -127,55 +132,140 @@ fn supernodal_solve<const K: usize>(
     // Backward: L^T x = y, column by column from the last.
     for s in (s0..n_s).rev() {
         let (start, c, pattern, l) = block(s);
-        let nr = c + pattern.len();
-        let start = start as isize - first as isize;
-        let at = |i: usize| (start + i as isize) as usize;
-        let x0 = (-start).max(0) as usize;
-        if c - x0 >= DENSE_COLUMNS {
-            let (w, p) = (c - x0, pattern.len());
-            let lm = MatRef::from_column_major_slice_with_stride(l, nr, c, nr);
-            if p > 0 {
-                tmp.clear();
-                for &r in pattern {
-                    tmp.extend_from_slice(&x[r - first]);
-                }
-            }
-            let mut xc = MatMut::from_row_major_slice_mut(x[at(x0)..at(c)].as_flattened_mut(), w, K);
-            if p > 0 {
-                let t = MatRef::from_row_major_slice(&tmp, p, K);
-                matmul(
-                    xc.rb_mut(),
-                    Accum::Add,
-                    lm.submatrix(c, x0, p, w).transpose(),
-                    t,
-                    -1.0,
-                    Par::Seq,
-                );
-            }
-            solve_upper_triangular_in_place(lm.submatrix(x0, x0, w, w).transpose(), xc, Par::Seq);
-            continue;
-        }
-        for j in (x0..c).rev() {
-            let col = &l[j * nr..(j + 1) * nr];
-            let mut acc = x[at(j)];
-            for (i, &lij) in col[j + 1..c].iter().enumerate() {
-                let xi = x[at(j + 1 + i)];
-                for k in 0..K {
-                    acc[k] -= lij * xi[k];
-                }
-            }
-            for (&r, &lij) in pattern.iter().zip(&col[c..]) {
-                let xi = x[r - first];
-                for k in 0..K {
-                    acc[k] -= lij * xi[k];
-                }
-            }
-            for v in &mut acc {
-                *v /= col[j];
-            }
-            x[at(j)] = acc;
-        }
+        let x0 = first.saturating_sub(start);
+        backward_supernode(Supernode { start, c, pattern, l }, x0, x, first, &mut tmp);
     }
+}
+
+/// One supernode of a factor: its first column `start`, its `c` columns,
+/// the unknowns of its rows below the diagonal block (`pattern`), and its
+/// column-major `(c + pattern.len()) x c` block of L.
+#[derive(Clone, Copy)]
+struct Supernode<'a> {
+    start: usize,
+    c: usize,
+    pattern: &'a [usize],
+    l: &'a [f64],
+}
+
+/// The backward solve `L^T x = y` of a supernode's columns `x0..c`, from
+/// the last (the unknowns below it solved): unknown `i` at `x[i - base]`.
+fn backward_supernode<const K: usize>(
+    sn: Supernode<'_>,
+    x0: usize,
+    x: &mut [[f64; K]],
+    base: usize,
+    tmp: &mut Vec<f64>,
+) {
+    let Supernode { start, c, pattern, l } = sn;
+    let nr = c + pattern.len();
+    let at = |i: usize| start + i - base;
+    if c - x0 >= DENSE_COLUMNS {
+        let (w, p) = (c - x0, pattern.len());
+        let lm = MatRef::from_column_major_slice_with_stride(l, nr, c, nr);
+        if p > 0 {
+            tmp.clear();
+            for &r in pattern {
+                tmp.extend_from_slice(&x[r - base]);
+            }
+        }
+        let mut xc = MatMut::from_row_major_slice_mut(x[at(x0)..at(c)].as_flattened_mut(), w, K);
+        if p > 0 {
+            let t = MatRef::from_row_major_slice(tmp, p, K);
+            matmul(
+                xc.rb_mut(),
+                Accum::Add,
+                lm.submatrix(c, x0, p, w).transpose(),
+                t,
+                -1.0,
+                Par::Seq,
+            );
+        }
+        solve_upper_triangular_in_place(lm.submatrix(x0, x0, w, w).transpose(), xc, Par::Seq);
+        return;
+    }
+    backward_columns(sn, x0..c, x, base);
+}
+
+/// [`backward_supernode`] of the columns `cols` of a supernode, column by
+/// column (the columns after them and the unknowns below solved).
+fn backward_columns<const K: usize>(
+    sn: Supernode<'_>,
+    cols: std::ops::Range<usize>,
+    x: &mut [[f64; K]],
+    base: usize,
+) {
+    let Supernode { start, c, pattern, l } = sn;
+    let nr = c + pattern.len();
+    let at = |i: usize| start + i - base;
+    for j in cols.rev() {
+        let col = &l[j * nr..(j + 1) * nr];
+        let mut acc = x[at(j)];
+        for (i, &lij) in col[j + 1..c].iter().enumerate() {
+            let xi = x[at(j + 1 + i)];
+            for k in 0..K {
+                acc[k] -= lij * xi[k];
+            }
+        }
+        for (&r, &lij) in pattern.iter().zip(&col[c..]) {
+            let xi = x[r - base];
+            for k in 0..K {
+                acc[k] -= lij * xi[k];
+            }
+        }
+        for v in &mut acc {
+            *v /= col[j];
+        }
+        x[at(j)] = acc;
+    }
+}
+
+/// Where the values of a factor's leading supernodes come from, last
+/// first: [`Leading::values`] is asked for ranges of stored values in
+/// decreasing order (each below the one before).
+pub(crate) trait Leading {
+    /// The stored values `from..to`.
+    fn values(&mut self, from: usize, to: usize) -> std::io::Result<&[f64]>;
+}
+
+/// Completes [`solve_trailing`] of a right-hand side on the last unknowns
+/// into a whole solve: with `x` the trailing solution at `x[first..]`
+/// (permuted order) and zeros before, the backward solve of the unknowns
+/// before `first` (the forward solve left them zero). The kept values
+/// `values` (from stored value `offset` on, a joint block) hold the
+/// supernode that straddles `first`; those before it come from `leading`,
+/// last first.
+fn backward_leading<const K: usize>(
+    sym: &SymbolicSupernodalCholesky<usize>,
+    values: &[f64],
+    offset: usize,
+    x: &mut [[f64; K]],
+    first: usize,
+    leading: &mut dyn Leading,
+) -> std::io::Result<()> {
+    let (begin, end) = (sym.supernode_begin(), sym.supernode_end());
+    let row_ptr = sym.col_ptr_for_row_idx();
+    let val_ptr = sym.col_ptr_for_val();
+    let rows = sym.row_idx();
+    let node = |s: usize, l: &'_ [f64]| -> (usize, usize, usize) {
+        let c = end[s] - begin[s];
+        (begin[s], c, l.len() / c - c)
+    };
+    let s0 = end.partition_point(|&e| e <= first);
+    if s0 < sym.n_supernodes() && begin[s0] < first {
+        let l = &values[val_ptr[s0] - offset..val_ptr[s0 + 1] - offset];
+        let (start, c, p) = node(s0, l);
+        let pattern = &rows[row_ptr[s0]..][..p];
+        backward_columns(Supernode { start, c, pattern, l }, 0..first - start, x, 0);
+    }
+    let mut tmp = Vec::new();
+    for s in (0..s0).rev() {
+        let l = leading.values(val_ptr[s], val_ptr[s + 1])?;
+        let (start, c, p) = node(s, l);
+        let pattern = &rows[row_ptr[s]..][..p];
+        backward_supernode(Supernode { start, c, pattern, l }, 0, x, 0, &mut tmp);
+    }
+    Ok(())
 }
 
 /// Solves `A x = b` for `K` interleaved right-hand sides with the factor
@@ -263,6 +353,58 @@ pub(crate) fn solve_trailing<const K: usize>(
     }
 }
 
+/// The stored values of a whole factor as a [`Leading`] source.
+pub(crate) struct InMemory<'a>(pub(crate) &'a [f64]);
+
+impl Leading for InMemory<'_> {
+    fn values(&mut self, from: usize, to: usize) -> std::io::Result<&[f64]> {
+        Ok(&self.0[from..to])
+    }
+}
+
+/// Solves `A x = b` for a `b` that vanishes outside the last `b.len()`
+/// unknowns of the factor's permuted order (as [`solve_trailing`]) and
+/// returns all of `x` in natural order: the trailing block from `values`
+/// (stored values from `offset` on), the columns before it read from
+/// `leading`, last first (a factor on disk streams through a small
+/// window: no whole factor in memory).
+pub(crate) fn solve_trailing_whole<const K: usize>(
+    symbolic: &SymbolicCholesky<usize>,
+    values: &[f64],
+    offset: usize,
+    b: &[[f64; K]],
+    leading: &mut dyn Leading,
+) -> std::io::Result<Vec<[f64; K]>> {
+    let n = symbolic.nrows();
+    let first = n - b.len();
+    let mut x = vec![[0.0; K]; n];
+    x[first..].copy_from_slice(b);
+    match symbolic.raw() {
+        SymbolicCholeskyRaw::Supernodal(sym) => {
+            supernodal_solve(sym, values, offset, &mut x[first..], first);
+            backward_leading(sym, values, offset, &mut x, first, leading)?;
+        }
+        SymbolicCholeskyRaw::Simplicial(_) => {
+            assert_eq!(offset, 0, "a simplicial factor is kept whole");
+            // Small problems: the full solve in natural order.
+            let mut full = vec![[0.0; K]; n];
+            let fwd: Vec<usize> = match symbolic.perm() {
+                Some(p) => p.arrays().0.to_vec(),
+                None => (0..n).collect(),
+            };
+            for (i, bi) in b.iter().enumerate() {
+                full[fwd[first + i]] = *bi;
+            }
+            solve_interleaved(symbolic, values, &mut full);
+            return Ok(full);
+        }
+    }
+    Ok(match symbolic.perm() {
+        Some(perm) => perm.arrays().1.iter().map(|&v| x[v]).collect(),
+        None => x,
+    })
+}
+
 /// faer's own solve (any storage), sequential.
 pub(crate) fn solve_with_faer(symbolic: &SymbolicCholesky<usize>, values: &[f64], rhs: MatMut<'_, f64>) {
     let par = Par::Seq;
@@ -315,15 +457,12 @@ mod tests {
         (n, col_ptr, row_idx, val)
     }
 
-    fn check(g: usize, want_supernodal: bool) {
+    /// The grid's symbolic and numeric factors.
+    fn factor(g: usize) -> (SymbolicCholesky<usize>, Vec<f64>) {
         let (n, col_ptr, row_idx, val) = grid(g);
         let pat = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row_idx);
         let symbolic =
             factorize_symbolic_cholesky(pat, Side::Upper, Default::default(), Default::default()).unwrap();
-        assert_eq!(
-            matches!(symbolic.raw(), SymbolicCholeskyRaw::Supernodal(_)),
-            want_supernodal
-        );
         let mut values = vec![0.0; symbolic.len_val()];
         let par = Par::Seq;
         let mut mem = MemBuffer::new(symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()));
@@ -338,6 +477,77 @@ mod tests {
                 Default::default(),
             )
             .unwrap();
+        (symbolic, values)
+    }
+
+    /// Serves stored values as [`InMemory`] does and records the ranges
+    /// asked.
+    struct Recorded<'a>(&'a [f64], Vec<(usize, usize)>);
+
+    impl Leading for Recorded<'_> {
+        fn values(&mut self, from: usize, to: usize) -> std::io::Result<&[f64]> {
+            self.1.push((from, to));
+            Ok(&self.0[from..to])
+        }
+    }
+
+    /// A right-hand side on the last unknowns, solved with the joint
+    /// block's values and the rest fetched last first, equals the full
+    /// solve of the same right-hand side (a trailing block that starts
+    /// inside a supernode and one that starts at the first unknown).
+    #[test]
+    fn a_trailing_solve_completed_from_the_rest_equals_the_full_solve() {
+        let (symbolic, values) = factor(60);
+        let n = symbolic.nrows();
+        let SymbolicCholeskyRaw::Supernodal(sym) = symbolic.raw() else {
+            panic!("supernodal storage expected");
+        };
+        let fwd = symbolic.perm().unwrap().arrays().0.to_vec();
+        for trailing in [517, 1, n] {
+            let first = n - trailing;
+            let s0 = sym.supernode_end().partition_point(|&e| e <= first);
+            if trailing == 517 {
+                assert!(
+                    sym.supernode_begin()[s0] < first,
+                    "the block starts inside a supernode"
+                );
+            }
+            let offset = trailing_offset(&symbolic, first).unwrap();
+            let b: Vec<[f64; 2]> = (0..trailing)
+                .map(|i| [((i * 5 % 11) as f64).cos(), (i as f64 * 0.7).sin()])
+                .collect();
+            let mut rest = Recorded(&values[..offset], Vec::new());
+            let ours = solve_trailing_whole(&symbolic, &values[offset..], offset, &b, &mut rest).unwrap();
+            let mut full = vec![[0.0; 2]; n];
+            for (i, bi) in b.iter().enumerate() {
+                full[fwd[first + i]] = *bi;
+            }
+            solve_interleaved(&symbolic, &values, &mut full);
+            let scale = full.iter().flatten().fold(0.0f64, |a, v| a.max(v.abs()));
+            let worst = ours
+                .iter()
+                .flatten()
+                .zip(full.iter().flatten())
+                .fold(0.0f64, |a, (x, y)| a.max((x - y).abs()));
+            assert!(
+                worst <= 1e-14 * scale,
+                "trailing {trailing}: max difference {worst:e} of {scale:e}"
+            );
+            // Every value before the block asked once, last first.
+            let asked = &rest.1;
+            assert_eq!(asked.first().map(|r| r.1), (offset > 0).then_some(offset));
+            assert!(asked.windows(2).all(|w| w[1].1 == w[0].0));
+            assert_eq!(asked.last().map_or(0, |r| r.0), 0);
+        }
+    }
+
+    fn check(g: usize, want_supernodal: bool) {
+        let (n, col_ptr, row_idx, val) = grid(g);
+        let (symbolic, values) = factor(g);
+        assert_eq!(
+            matches!(symbolic.raw(), SymbolicCholeskyRaw::Supernodal(_)),
+            want_supernodal
+        );
         let b: Vec<[f64; 2]> = (0..n)
             .map(|i| [((i * 7 % 13) as f64).sin(), (i as f64 * 0.3).cos()])
             .collect();

@@ -74,6 +74,8 @@ pub fn solve_to_then(scene: &Scene, out: &Path, quiet: bool, iterating: &dyn Fn(
     bar.finish_and_clear();
     match result {
         Ok((solved, run)) => {
+            // No more solves: the factors' rest on disk is freed behind the outputs.
+            run.problem.model.release_disk();
             let header = write_run(&solved, &run, &msh, out)?;
             write_stage_ends(&solved, &run, &msh, out)?;
             Ok(header)

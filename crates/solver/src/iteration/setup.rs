@@ -15,7 +15,7 @@ use crate::joint_law::{relative_trial, JointState, PointHistory};
 use crate::linear::{HarmonicFactor, Model};
 use crate::loads::HarmonicLoads;
 use crate::scene::JointLaw;
-use crate::solution::Displacements;
+use crate::solution::{Displacements, HarmonicDisplacement};
 use std::sync::{Arc, OnceLock};
 
 /// The fixed data of an iteration: points, joint nodes, basis, the elastic
@@ -52,6 +52,9 @@ pub(super) struct Setup<'a> {
     /// The loads at the stage's start (as `loads`, harmonic by harmonic)
     /// and their elastic joint-node amplitudes ([`Problem::from`]).
     pub(super) base: Option<(Vec<HarmonicLoads>, JointAmplitudes)>,
+    /// The whole elastic solutions known: of `loads` and of the stage's
+    /// start (none where not given).
+    pub(super) elastic: [Option<&'a Displacements>; 2],
     /// The converged state the stage starts from.
     pub(super) resume: Option<&'a StageEnd>,
 }
@@ -149,6 +152,7 @@ impl<'a> Setup<'a> {
             interface: OnceLock::new(),
             whole_up_to,
             base,
+            elastic: [elastic, from.map(|f| f.elastic)],
             resume: from.map(|f| f.end),
         };
         if let Some(start) = start {
@@ -191,6 +195,49 @@ impl<'a> Setup<'a> {
             f.add(1.0, &base[h]);
         }
         f
+    }
+
+    /// The whole elastic displacements `K^-1 F(lambda)` of harmonic `h`
+    /// (index) as the sum of the known solutions ([`Setup::elastic`]), if
+    /// they hold it: a full solve then needs only the released forces'.
+    pub(super) fn elastic_at(&self, h: usize, lambda: f64) -> Option<HarmonicDisplacement> {
+        let e = self.known_elastic(h, 0)?;
+        let both = self.transfer.both[h];
+        let mut u = HarmonicDisplacement {
+            m: e.m,
+            symmetric: e.symmetric.iter().map(|v| lambda * v).collect(),
+            antisymmetric: if both {
+                e.antisymmetric.iter().map(|v| lambda * v).collect()
+            } else {
+                vec![0.0; e.symmetric.len()]
+            },
+        };
+        if self.base.is_some() {
+            let b = self.known_elastic(h, 1)?;
+            u.symmetric
+                .iter_mut()
+                .zip(&b.symmetric)
+                .for_each(|(a, v)| *a += v);
+            if both {
+                u.antisymmetric
+                    .iter_mut()
+                    .zip(&b.antisymmetric)
+                    .for_each(|(a, v)| *a += v);
+            }
+        }
+        Some(u)
+    }
+
+    /// Whether [`Setup::elastic_at`] knows harmonic `h` (index).
+    pub(super) fn knows_elastic(&self, h: usize) -> bool {
+        self.known_elastic(h, 0).is_some() && (self.base.is_none() || self.known_elastic(h, 1).is_some())
+    }
+
+    /// Harmonic `h` (index) of the known elastic solution `k` (0: of the
+    /// loads, 1: of the stage's start).
+    fn known_elastic(&self, h: usize, k: usize) -> Option<&'a HarmonicDisplacement> {
+        let m = self.loads[h].m;
+        self.elastic[k].and_then(|d| d.harmonics.iter().find(|x| x.m == m))
     }
 
     /// The elastic joint-node amplitudes at load factor `lambda`.

@@ -150,13 +150,39 @@ impl<'s, 'a> Sweep<'s, 'a> {
         let n = setup.model.mesh.nodes.len();
         let mut released = setup.transfer.zeros();
         setup.transfer.analyse(x, &mut released);
+        let lambda = self.state.lambda;
+        // With the elastic solution known, only the released forces (on
+        // the joint nodes) are solved: the forward solve reads the joint
+        // block alone, and a reduced factor with its rest on disk streams
+        // that rest for the backward solve (no whole factor in memory, so
+        // not bounded).
+        let superposed = |h: usize| setup.bodies.is_none() && setup.knows_elastic(h);
         let harmonics = setup.model.map_bounded(
             wanted.len(),
-            |i| !setup.factor_of[wanted[i]].is_full(),
+            |i| {
+                let (h, factor) = (wanted[i], setup.factor_of[wanted[i]]);
+                let streamed = factor.on_disk() && superposed(h);
+                !factor.is_full() && !streamed
+            },
             |i| {
                 let h = wanted[i];
                 let (factor, g) = (setup.factor_of[h], &released[h]);
-                let f = setup.load_at(h, self.state.lambda);
+                if superposed(h) {
+                    if let Some(mut u) = setup.elastic_at(h, lambda) {
+                        let add =
+                            |to: &mut [f64], du: &[f64]| to.iter_mut().zip(du).for_each(|(a, v)| *a += v);
+                        if setup.transfer.both[h] {
+                            let [s, a] = setup.model.solve_joint_whole(factor, &[&g[0], &g[1]]);
+                            add(&mut u.symmetric, &s);
+                            add(&mut u.antisymmetric, &a);
+                        } else {
+                            let [s] = setup.model.solve_joint_whole(factor, &[&g[0]]);
+                            add(&mut u.symmetric, &s);
+                        }
+                        return u;
+                    }
+                }
+                let f = setup.load_at(h, lambda);
                 let mut loads = [f.rhs(0).into_owned(), f.rhs(1).into_owned()];
                 for (vec, gk) in loads.iter_mut().zip(g) {
                     setup.add_at_joint_nodes(gk, vec);

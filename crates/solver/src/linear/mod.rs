@@ -13,7 +13,9 @@ use crate::assembly::{
     StiffnessTerms,
 };
 use crate::dofs::DofMap;
-use crate::factor::{solve_interleaved, solve_trailing, solve_with_faer, trailing_offset};
+use crate::factor::{
+    solve_interleaved, solve_trailing, solve_trailing_whole, solve_with_faer, trailing_offset, InMemory,
+};
 use crate::material::Elastic;
 use axijoint_mesh::Mesh;
 use faer::dyn_stack::{MemBuffer, MemStack};
@@ -138,7 +140,7 @@ pub struct Model {
     spill: OnceLock<Option<Arc<crate::spill::SpillFile>>>,
     /// Value buffers of whole factors dropped by a reduction or after a
     /// full solve, for the next: a fresh buffer costs its pages again.
-    spare: Mutex<Vec<Vec<f64>>>,
+    spare: Arc<Mutex<Vec<Vec<f64>>>>,
 }
 
 impl Model {
@@ -213,7 +215,7 @@ impl Model {
             terms: Mutex::new(None),
             lean_at_once: AtomicUsize::new(usize::MAX),
             spill: OnceLock::new(),
-            spare: Mutex::new(Vec::new()),
+            spare: Arc::new(Mutex::new(Vec::new())),
         })
     }
 
@@ -234,8 +236,25 @@ impl Model {
     /// equations are ordered last in the factorization, so this reads only
     /// the trailing block of the factor: a small fraction of a full solve.
     pub fn solve_joint<const K: usize>(&self, factor: &HarmonicFactor, loads: &[&[f64]; K]) -> [Vec<f64>; K] {
-        let nt = self.trailing.len();
-        let mut b = vec![[0.0; K]; nt];
+        let mut b = self.joint_rhs(factor, loads);
+        solve_trailing(&factor.symbolic, &factor.values, factor.offset, &mut b);
+        let mut out: [Vec<f64>; K] = std::array::from_fn(|_| vec![0.0; 3 * self.joint_nodes.len()]);
+        for (j, &k) in self.joint_nodes.iter().enumerate() {
+            for c in 0..3 {
+                for (e, coef) in self.dofs.terms(3 * k + c) {
+                    for (q, o) in out.iter_mut().enumerate() {
+                        o[3 * j + c] += coef * b[self.trail_pos[e]][q];
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// The trailing right-hand sides of joint-node forces `loads` (as
+    /// [`Model::solve_joint`] takes them), zero at pinned equations.
+    fn joint_rhs<const K: usize>(&self, factor: &HarmonicFactor, loads: &[&[f64]; K]) -> Vec<[f64; K]> {
+        let mut b = vec![[0.0; K]; self.trailing.len()];
         for (j, &k) in self.joint_nodes.iter().enumerate() {
             for c in 0..3 {
                 for (e, coef) in self.dofs.terms(3 * k + c) {
@@ -250,18 +269,47 @@ impl Model {
                 *bi = [0.0; K];
             }
         }
-        solve_trailing(&factor.symbolic, &factor.values, factor.offset, &mut b);
-        let mut out: [Vec<f64>; K] = std::array::from_fn(|_| vec![0.0; 3 * self.joint_nodes.len()]);
-        for (j, &k) in self.joint_nodes.iter().enumerate() {
-            for c in 0..3 {
-                for (e, coef) in self.dofs.terms(3 * k + c) {
-                    for (q, o) in out.iter_mut().enumerate() {
-                        o[3 * j + c] += coef * b[self.trail_pos[e]][q];
-                    }
-                }
-            }
-        }
-        out
+        b
+    }
+
+    /// Solves `K_m u = f` for forces `f` on the joint nodes only (as
+    /// [`Model::solve_joint`] takes them) and returns `u` at every node
+    /// (node-DOF order, zero at supports). A factor reduced to its joint
+    /// block whose rest is on disk reads that rest last first, through a
+    /// window of about a MiB, for the backward solve (the forward solve of
+    /// such loads needs only the joint block): no whole factor in memory
+    /// and no forward pass over the rest. One not on disk is factorized
+    /// again.
+    pub fn solve_joint_whole<const K: usize>(
+        &self,
+        factor: &HarmonicFactor,
+        loads: &[&[f64]; K],
+    ) -> [Vec<f64>; K] {
+        let b = self.joint_rhs(factor, loads);
+        let in_memory = |f: &HarmonicFactor| {
+            solve_trailing_whole(&f.symbolic, &f.values, 0, &b, &mut InMemory(&f.values))
+                .expect("values in memory are read without error")
+        };
+        let x = if factor.is_full() {
+            in_memory(factor)
+        } else {
+            let streamed = factor.spilled.as_ref().and_then(|s| {
+                let mut leading = s.backward().ok()?;
+                solve_trailing_whole(&factor.symbolic, &factor.values, factor.offset, &b, &mut leading).ok()
+            });
+            streamed.unwrap_or_else(|| {
+                let whole = self.refactorize(factor);
+                let x = in_memory(&whole);
+                self.give_back(whole.values);
+                x
+            })
+        };
+        std::array::from_fn(|q| {
+            let xq: Vec<f64> = x.iter().map(|v| v[q]).collect();
+            let mut u = vec![0.0; 3 * self.dofs.n_nodes];
+            self.dofs.expand(&xq, &mut u);
+            u
+        })
     }
 
     /// Per body, whether its cells are B-bar cells (the plastic bodies':
@@ -466,6 +514,10 @@ impl Model {
         // The joint blocks not yet held leave room for more whole factors
         // at once: the factors never take more than when all are held.
         let lean = ms.iter().filter(|&&m| !keep_full(m)).count();
+        if lean > 0 {
+            // Open now: the first reductions may write behind.
+            self.spill.get_or_init(crate::spill::SpillFile::open);
+        }
         let (block, whole) = (self.joint_block_len(), self.factor_len().max(1));
         self.map_bounded_with_room(
             ms.len(),

@@ -6,6 +6,7 @@
 use super::{HarmonicFactor, Model, SolveError};
 use rayon::prelude::*;
 use std::sync::atomic::Ordering;
+use std::sync::Mutex;
 
 impl Model {
     /// At most `n` (at least 1) harmonics whose factors keep only their
@@ -46,6 +47,7 @@ impl Model {
         put(whole_i.par_iter().map(|&i| (i, f(i))).collect());
         let at_once = self.lean_at_once.load(Ordering::Relaxed).max(1);
         let threads = rayon::current_num_threads().max(1);
+        let spill = self.spill.get().and_then(Option::as_ref);
         let mut done = 0;
         while done < lean_i.len() {
             let more = room(done);
@@ -55,8 +57,16 @@ impl Model {
                 at_once
             };
             let chunk = &lean_i[done..(done + k.min(lean_i.len() - done))];
+            // The room beyond the chunk's whole factors holds those of
+            // writes still running behind.
+            if let Some(file) = spill {
+                file.allow_behind(at_once.saturating_add(more).saturating_sub(chunk.len()));
+            }
             put(chunk.par_iter().map(|&i| (i, f(i))).collect());
             done += chunk.len();
+        }
+        if let Some(file) = spill {
+            file.allow_behind(0);
         }
         out.into_iter().map(|t| t.expect("every index mapped")).collect()
     }
@@ -78,20 +88,31 @@ impl Model {
         if let Some(o) = super::trailing_offset(&factor.symbolic, first) {
             if o > factor.offset {
                 let cut = o - factor.offset;
-                if factor.offset == 0 {
-                    factor.spilled = self
-                        .spill
-                        .get_or_init(crate::spill::SpillFile::open)
-                        .as_ref()
-                        .and_then(|file| file.put(&factor.values[..cut], factor.seconds));
-                }
                 let kept = factor.values[cut..].to_vec();
                 let whole = std::mem::replace(&mut factor.values, kept);
-                self.give_back(whole);
+                match self.spill.get_or_init(crate::spill::SpillFile::open) {
+                    Some(file) if factor.offset == 0 => {
+                        let (spare, len, keep) =
+                            (self.spare.clone(), self.symbolic.len_val(), self.spare_kept());
+                        factor.spilled = file.put(whole, cut, factor.seconds, move |v| {
+                            keep_spare(&spare, v, len, keep)
+                        });
+                    }
+                    _ => self.give_back(whole),
+                }
                 factor.offset = o;
             }
         }
         factor
+    }
+
+    /// Frees the rest of the reduced factors on disk, on a thread of its
+    /// own (when no more full solves are to come: a later one factorizes
+    /// its harmonic again).
+    pub fn release_disk(&self) {
+        if let Some(Some(file)) = self.spill.get() {
+            file.release();
+        }
     }
 
     /// An empty buffer for the values of a whole factor: a spare one, else
@@ -113,19 +134,15 @@ impl Model {
     /// more whole factors are held than when they work; the others are
     /// freed).
     pub(super) fn give_back(&self, v: Vec<f64>) {
-        if v.capacity() < self.symbolic.len_val() {
-            return;
-        }
-        let keep = self
-            .lean_at_once
+        keep_spare(&self.spare, v, self.symbolic.len_val(), self.spare_kept());
+    }
+
+    /// How many spare buffers [`Model::give_back`] keeps.
+    fn spare_kept(&self) -> usize {
+        self.lean_at_once
             .load(Ordering::Relaxed)
             .min(rayon::current_num_threads())
-            .max(1);
-        if let Ok(mut spare) = self.spare.lock() {
-            if spare.len() < keep {
-                spare.push(v);
-            }
-        }
+            .max(1)
     }
 
     /// The whole factor of a harmonic whose `factor` keeps only its joint
@@ -154,5 +171,18 @@ impl Model {
         };
         self.numeric(factor.m, &values, pinned)
             .unwrap_or_else(|e| panic!("harmonic {} factorized before, not again: {e}", factor.m))
+    }
+}
+
+/// Keeps `v` in `spare` if it holds a whole factor (`len` values) and
+/// fewer than `keep` are kept.
+fn keep_spare(spare: &Mutex<Vec<Vec<f64>>>, v: Vec<f64>, len: usize, keep: usize) {
+    if v.capacity() < len {
+        return;
+    }
+    if let Ok(mut spare) = spare.lock() {
+        if spare.len() < keep {
+            spare.push(v);
+        }
     }
 }
