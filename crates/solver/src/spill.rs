@@ -93,7 +93,13 @@ impl SpillFile {
             return None;
         }
         let direct = set_direct(&file);
-        Some(Arc::new(SpillFile {
+        Some(SpillFile::new(file, direct, dir))
+    }
+
+    /// An empty spill file on `file` (in folder `dir`), written and read
+    /// around the page cache if `direct`.
+    fn new(file: File, direct: bool, dir: PathBuf) -> Arc<SpillFile> {
+        Arc::new(SpillFile {
             file,
             direct,
             dir,
@@ -103,7 +109,7 @@ impl SpillFile {
             behind: Mutex::new((0, 0)),
             ended: Condvar::new(),
             released: RwLock::new(false),
-        }))
+        })
     }
 
     /// Writes `values[..len]` if that takes less than `worth` seconds at
@@ -607,17 +613,11 @@ mod tests {
             return;
         };
         assert!(direct_flag(&file.file, false), "O_DIRECT cleared");
-        let buffered = Arc::new(SpillFile {
-            file: file.file.try_clone().expect("a second descriptor"),
-            direct: false,
-            dir: file.dir.clone(),
-            end: Mutex::new(0),
-            rate: Mutex::new(None),
-            buffers: Mutex::new(Vec::new()),
-            behind: Mutex::new((0, 0)),
-            ended: Condvar::new(),
-            released: RwLock::new(false),
-        });
+        let buffered = SpillFile::new(
+            file.file.try_clone().expect("a second descriptor"),
+            false,
+            file.dir.clone(),
+        );
         round_trip(&buffered);
     }
 }
