@@ -101,6 +101,8 @@ fn iteration_status(e: &axijoint_solver::iteration::IterationError) -> u8 {
         | IterationError::StiffJoint { .. }
         | IterationError::Rounds { .. } => NUMERICAL_FAILURE,
         IterationError::Setup(_) => INPUT_ERROR,
+        // (Only the M/2 check is ever cancelled, and its error is not shown.)
+        IterationError::Cancelled => NUMERICAL_FAILURE,
     }
 }
 

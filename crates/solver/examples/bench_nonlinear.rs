@@ -233,6 +233,7 @@ fn iterate(
         elastic: Some(elastic),
         whole_up_to: None,
         from: None,
+        cancel: None,
     };
     let stepping = scene.solver.loading.into();
     let result = solve(&problem, &settings, None, stepping, |_, _, _, _| (), |_| {}).map(|s| s.outcome);

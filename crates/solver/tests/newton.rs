@@ -511,16 +511,7 @@ fn pile_in_soil_runs(
     let model = &lin.problem.model;
     let laws = laws(&sc, &model.mesh);
     let sections = scene_sections(&sc, &lin.problem.model, &lin.loads).expect("sections");
-    let problem = axijoint_solver::iteration::Problem {
-        model,
-        factors: &lin.problem.factors,
-        loads: &lin.loads,
-        laws: &laws,
-        sections: &sections,
-        elastic: Some(&lin.displacements),
-        whole_up_to: None,
-        from: None,
-    };
+    let problem = problem_of(&lin, &laws, &sections, None);
     variants
         .iter()
         .map(|v| {
@@ -541,6 +532,27 @@ fn pile_in_soil_runs(
             (solved, t.elapsed().as_secs_f64())
         })
         .collect()
+}
+
+/// The iteration's problem of a linear run's factors, loads and elastic
+/// solution (every harmonic's whole displacements, the first stage).
+fn problem_of<'a>(
+    lin: &'a axijoint_solver::run::Run,
+    laws: &'a [JointLaw],
+    sections: &'a axijoint_solver::fourier::Sections,
+    cancel: Option<&'a std::sync::atomic::AtomicBool>,
+) -> axijoint_solver::iteration::Problem<'a> {
+    axijoint_solver::iteration::Problem {
+        model: &lin.problem.model,
+        factors: &lin.problem.factors,
+        loads: &lin.loads,
+        laws,
+        sections,
+        elastic: Some(&lin.displacements),
+        whole_up_to: None,
+        from: None,
+        cancel,
+    }
 }
 
 /// Load steps of a stepped solution.
@@ -614,4 +626,60 @@ fn the_watchdog_ends_the_crawl_of_a_stiff_joint() {
         sweeps(watched),
         sweeps(plain)
     );
+}
+
+/// A run whose caller sets its cancel flag (the M/2 check of a run that
+/// ended at a limit load) ends with `Cancelled` at the next Newton step or
+/// iteration, by Newton on the rigid joints' tractions and by the plain
+/// fixed point on the nodal forces; with the flag set before it starts, at
+/// once.
+#[test]
+fn a_cancelled_iteration_ends_at_its_next_step() {
+    use axijoint_solver::iteration::{solve, StepControl, Stepping};
+    use std::sync::atomic::{AtomicBool, Ordering};
+    let path = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../geo/pile_soil.json");
+    let mut sc = Scene::from_path(&path).unwrap_or_else(|e| panic!("{e}"));
+    sc.harmonics = 4.into();
+    for j in sc.joints.values_mut() {
+        (j.k_xi, j.k_eta, j.k_theta) = (None, None, None);
+    }
+    let lin = solve_linear(&sc, None, true).expect("linear run");
+    let model = &lin.problem.model;
+    let laws = laws(&sc, &model.mesh);
+    let sections = scene_sections(&sc, model, &lin.loads).expect("sections");
+    for (method, set_at) in [(Method::Newton, 3), (Method::Plain, 3), (Method::Newton, 0)] {
+        let flag = AtomicBool::new(set_at == 0);
+        let problem = problem_of(&lin, &laws, &sections, Some(&flag));
+        let settings = IterationSettings {
+            method,
+            ..IterationSettings::default()
+        };
+        let (mut seen, mut after) = (0u32, 0u32);
+        let solved = solve(
+            &problem,
+            &settings,
+            None,
+            Stepping::Steps(StepControl::AUTO),
+            |_, _, _, _| (),
+            |_| {
+                seen += 1;
+                if flag.load(Ordering::Relaxed) {
+                    after += 1;
+                }
+                if seen == set_at {
+                    flag.store(true, Ordering::Relaxed);
+                }
+            },
+        );
+        assert!(
+            matches!(solved, Err(IterationError::Cancelled)),
+            "{method:?}: {:?}",
+            solved.err()
+        );
+        // Newton's first record comes before its loop's check.
+        assert!(
+            after <= 1,
+            "{method:?}, flag at record {set_at}: {after} records after it"
+        );
+    }
 }

@@ -109,6 +109,7 @@ pub fn stress_transfer(
         elastic: None,
         whole_up_to: None,
         from: None,
+        cancel: None,
     };
     solve(
         &problem,

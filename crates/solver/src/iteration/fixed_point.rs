@@ -4,7 +4,7 @@
 use super::attempt::{Converged, Failure, Start};
 use super::diagnosis::{no_equilibrium, not_converged, residual_limit, unresolved};
 use super::sweep::Sweep;
-use super::types::{IterationRecord, IterationSettings};
+use super::types::{IterationError, IterationRecord, IterationSettings};
 use std::time::Instant;
 
 /// Anderson mixing (type II) of a fixed point `x = Psi(x)` from the
@@ -110,6 +110,9 @@ pub(super) fn fixed_point(
     let load_scale = setup.load_scale();
 
     for it in 1..=settings.max_iterations {
+        if setup.cancelled() {
+            return Err(Failure::new(IterationError::Cancelled, x, ev));
+        }
         // (3) analyse x, (1) solve every harmonic for F + A x, (2) synthesize
         // at the sections, evaluate the law, release: g = Psi(x).
         let u = sweep.evaluate(&x, &mut released, &mut ev);

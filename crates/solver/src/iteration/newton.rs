@@ -644,6 +644,9 @@ fn solve(
     let eta_max = form.eta_max();
     let mut fallbacks = 0u32;
     for step in 2..=settings.max_iterations {
+        if setup.cancelled() {
+            return Err(it.fail(IterationError::Cancelled));
+        }
         // (1) The Newton direction at y.
         it.rhs.copy_from_slice(&it.res);
         form.linearize(&it.y, &it.acc);

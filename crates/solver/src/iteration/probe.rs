@@ -39,6 +39,7 @@ impl<'a> FixedPoint<'a> {
             elastic: None,
             whole_up_to: None,
             from: None,
+            cancel: None,
         };
         Ok(FixedPoint {
             setup: Setup::new(&problem, None)?,

@@ -49,6 +49,8 @@ pub(super) struct Setup<'a> {
     pub(super) interface: OnceLock<Arc<Interface>>,
     /// [`Problem::whole_up_to`].
     pub(super) whole_up_to: Option<u32>,
+    /// [`Problem::cancel`].
+    cancel: Option<&'a std::sync::atomic::AtomicBool>,
     /// The loads at the stage's start (as `loads`, harmonic by harmonic)
     /// and their elastic joint-node amplitudes ([`Problem::from`]).
     pub(super) base: Option<(Vec<HarmonicLoads>, JointAmplitudes)>,
@@ -72,6 +74,7 @@ impl<'a> Setup<'a> {
             elastic,
             whole_up_to,
             from,
+            cancel,
         } = *problem;
         let n = model.mesh.nodes.len();
         let factor_of: Vec<&HarmonicFactor> = loads
@@ -151,6 +154,7 @@ impl<'a> Setup<'a> {
             start: JointStart::default(),
             interface: OnceLock::new(),
             whole_up_to,
+            cancel,
             base,
             elastic: [elastic, from.map(|f| f.elastic)],
             resume: from.map(|f| f.end),
@@ -454,6 +458,13 @@ impl<'a> Setup<'a> {
         f.chunks(self.per_section())
             .map(|c| c.iter().map(|v| v * v).sum::<f64>().sqrt())
             .fold(0.0f64, f64::max)
+    }
+
+    /// Whether the caller asked the iteration to stop
+    /// ([`Problem::cancel`](super::types::Problem::cancel)).
+    pub(super) fn cancelled(&self) -> bool {
+        self.cancel
+            .is_some_and(|c| c.load(std::sync::atomic::Ordering::Relaxed))
     }
 
     /// Whether a joint is assembled with softer springs than its law's.

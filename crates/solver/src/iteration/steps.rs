@@ -255,6 +255,7 @@ pub(super) fn stepped<T>(
                 failed
             }
             Err(IterationError::Setup(e)) => return Err(IterationError::Setup(e)),
+            Err(IterationError::Cancelled) => return Err(IterationError::Cancelled),
             Err(e) => Some((target, e)),
         };
         if let Some((target, e)) = failure {

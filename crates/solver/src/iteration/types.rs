@@ -11,6 +11,7 @@ use crate::loads::HarmonicLoads;
 use crate::scene::JointLaw;
 use crate::solution::Displacements;
 use serde::{Deserialize, Serialize};
+use std::sync::atomic::AtomicBool;
 
 /// The problem an iteration solves: the loads of `model` (every harmonic
 /// factorized in `factors`), `laws[j]` the law of `model.joints[j]`,
@@ -40,6 +41,9 @@ pub struct Problem<'a> {
     /// load): then `loads` are the increment over the stage, `F(lambda) =
     /// F_start + lambda loads`, and `elastic` is the increment's.
     pub from: Option<StageStart<'a>>,
+    /// Set by the caller to stop the iteration early (it then ends with
+    /// [`IterationError::Cancelled`] within a Newton step or an iteration).
+    pub cancel: Option<&'a AtomicBool>,
 }
 
 /// Where a stage of loading starts ([`Problem::from`]).
@@ -404,6 +408,10 @@ pub enum IterationError {
     /// A harmonic or section setting that cannot work.
     #[error("{0}")]
     Setup(String),
+    /// Stopped by its caller ([`Problem::cancel`]): the M/2 check of a run
+    /// that ended at a limit load, where the check is not made.
+    #[error("cancelled")]
+    Cancelled,
 }
 
 impl IterationError {
@@ -414,7 +422,7 @@ impl IterationError {
             | IterationError::NotConverged { history, .. }
             | IterationError::StiffJoint { history, .. }
             | IterationError::Rounds { history, .. } => history,
-            IterationError::Setup(_) => &[],
+            IterationError::Setup(_) | IterationError::Cancelled => &[],
         }
     }
 

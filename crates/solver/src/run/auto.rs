@@ -71,7 +71,8 @@ pub fn solve_scene_auto(
             elastic: &u,
             initial: initial.as_ref(),
         };
-        let (outcome, load_path) = iterate(&sc, start, m, None, &sections, None, &mut progress)?;
+        let (outcome, load_path) =
+            iterate(&sc, start, m, Default::default(), &sections, None, &mut progress)?;
         // The measure, the force-loaded faces' mean displacements and the
         // moved faces' reaction forces and moments, each against its own
         // largest value.

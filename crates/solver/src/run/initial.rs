@@ -127,6 +127,7 @@ pub fn initial_phase(
             elastic: None,
             whole_up_to: None,
             from: None,
+            cancel: None,
         };
         let loading = scene.solver.loading.into();
         let solved = crate::iteration::solve(

@@ -16,28 +16,38 @@ use super::{Run, Stopped};
 use crate::error::SolverError;
 use crate::fourier::Sections;
 use crate::iteration::{IterationRecord, JointField, Outcome, StepBodies};
+use crate::linear::HarmonicFactor;
 use crate::loads::HarmonicLoads;
 use crate::results::{JointFieldFile, LoadPath, StepMeasure};
 use crate::scene::{Load, Scene};
 use crate::solution::Displacements;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Instant;
 
+/// What a caller of [`iterate`] asks beyond the solution.
+#[derive(Clone, Copy, Default)]
+pub(super) struct Asked<'c> {
+    /// The highest harmonic with whole displacements (`None`: every one).
+    pub(super) whole_up_to: Option<u32>,
+    /// Set to stop the iteration ([`IterationError::Cancelled`](crate::iteration::IterationError::Cancelled)).
+    pub(super) cancel: Option<&'c AtomicBool>,
+}
+
 /// The nonlinear solution with harmonics 0..=m on `sections`: one-shot or
-/// along the load path of `solver.loading` (the iteration chooses); the
-/// outcome's whole displacements up to harmonic `whole_up_to` (`None`:
-/// every one).
+/// along the load path of `solver.loading` (the iteration chooses), with
+/// what `asked` asks.
 pub(super) fn iterate(
     scene: &Scene,
     start: Start<'_>,
     m: u32,
-    whole_up_to: Option<u32>,
+    asked: Asked<'_>,
     sections: &Sections,
     ends: Option<&mut Vec<super::StageSnapshot>>,
     progress: impl FnMut(&IterationRecord),
 ) -> Result<(Outcome, Option<LoadPath>), SolverError> {
     if !scene.stages.is_empty() {
-        return super::stages::iterate_stages(scene, start, m, whole_up_to, sections, ends, progress);
+        return super::stages::iterate_stages(scene, start, m, asked, sections, ends, progress);
     }
     let Start {
         problem,
@@ -57,8 +67,9 @@ pub(super) fn iterate(
         laws: &laws,
         sections,
         elastic: Some(elastic),
-        whole_up_to,
+        whole_up_to: asked.whole_up_to,
         from: None,
+        cancel: asked.cancel,
     };
     let mesh = &model.mesh;
     let springs: Vec<_> = model.joints.iter().map(|j| j.springs).collect();
@@ -148,15 +159,42 @@ pub(super) fn finish(
     };
     let mut ends = Vec::new();
     let keep = scene.outputs.stages == crate::scene::StageOutputs::Each;
-    let (outcome, load_path) = match iterate(
-        scene,
-        start,
-        m,
-        None,
-        &sections,
-        keep.then_some(&mut ends),
-        &mut progress,
-    ) {
+    let half_run = |whole_up_to: Option<u32>, cancel: Option<&AtomicBool>| {
+        let asked = Asked { whole_up_to, cancel };
+        iterate(scene, start, m / 2, asked, &sections, None, |_| {})
+    };
+    // The M/2 check's run beside the run it checks, on a thread of its own
+    // (the iteration's serial parts keep about one core busy), asking for
+    // the whole displacements of harmonics 0 and 1 as it will in most runs;
+    // stopped when the run it checks ends short of the whole load. Not
+    // where factors are reduced: each run would read or make their rest.
+    let beside = m >= 2 && run.problem.factors.iter().all(HarmonicFactor::is_full);
+    let cancel = AtomicBool::new(false);
+    let (solved, early) = std::thread::scope(|s| {
+        let early = if beside {
+            std::thread::Builder::new()
+                .name("axijoint-half".into())
+                .spawn_scoped(s, || half_run(Some(1), Some(&cancel)))
+                .ok()
+        } else {
+            None
+        };
+        let solved = iterate(
+            scene,
+            start,
+            m,
+            Asked::default(),
+            &sections,
+            keep.then_some(&mut ends),
+            &mut progress,
+        );
+        if !matches!(&solved, Ok((_, path)) if path.as_ref().is_none_or(|p| p.limit.is_none())) {
+            cancel.store(true, Ordering::Relaxed);
+        }
+        let early = early.map(|h| h.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic)));
+        (solved, early)
+    });
+    let (outcome, load_path) = match solved {
         Ok(v) => v,
         Err(SolverError::Iteration(e)) => {
             let last = e.last().cloned().map(|last| {
@@ -174,17 +212,13 @@ pub(super) fn finish(
     let complete = load_path.as_ref().is_none_or(|p| p.limit.is_none());
     let half = if m >= 2 && complete {
         // Where the loaded faces' mean motion measures the check, the half
-        // run needs no whole displacements beyond harmonic 1.
+        // run needs no whole displacements beyond harmonic 1; else it runs
+        // again for all of them.
         let whole_up_to = faces_measure(scene, &run.problem.model, &run.loads, &outcome).then_some(1);
-        HalfRun::Solved(Box::new(iterate(
-            scene,
-            start,
-            m / 2,
-            whole_up_to,
-            &sections,
-            None,
-            |_| {},
-        )))
+        HalfRun::Solved(Box::new(match early {
+            Some(half) if whole_up_to.is_some() => half,
+            _ => half_run(whole_up_to, None),
+        }))
     } else {
         HalfRun::NotRun
     };

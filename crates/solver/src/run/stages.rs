@@ -129,13 +129,13 @@ pub(super) fn applied(
     Ok(combine_loads(1.0 - lambda, &start, lambda, &end))
 }
 
-/// The staged solution with harmonics 0..=m on `sections`; the outcome's
-/// whole displacements up to harmonic `whole_up_to` (`None`: every one).
+/// The staged solution with harmonics 0..=m on `sections`, with what
+/// `asked` asks (the whole displacements, a flag that stops it).
 pub(super) fn iterate_stages(
     scene: &Scene,
     start: Start<'_>,
     m: u32,
-    whole_up_to: Option<u32>,
+    asked: super::nonlinear::Asked<'_>,
     sections: &Sections,
     mut ends: Option<&mut Vec<super::StageSnapshot>>,
     mut progress: impl FnMut(&IterationRecord),
@@ -215,7 +215,8 @@ pub(super) fn iterate_stages(
             laws: &laws,
             sections,
             elastic: Some(&u_step),
-            whole_up_to,
+            whole_up_to: asked.whole_up_to,
+            cancel: asked.cancel,
             from: prev.as_ref().map(|(b, ub, end)| StageStart {
                 loads: b,
                 elastic: ub,
