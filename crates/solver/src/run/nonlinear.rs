@@ -11,7 +11,7 @@ use super::measures::{
 use super::model::{iteration_settings, joint_laws};
 use super::sections::scene_sections;
 use super::stages::{motion_direction, reaction_along};
-use super::start::Start;
+use super::start::{Asked, Start};
 use super::{Run, Stopped};
 use crate::error::SolverError;
 use crate::fourier::Sections;
@@ -24,15 +24,6 @@ use crate::solution::Displacements;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Instant;
-
-/// What a caller of [`iterate`] asks beyond the solution.
-#[derive(Clone, Copy, Default)]
-pub(super) struct Asked<'c> {
-    /// The highest harmonic with whole displacements (`None`: every one).
-    pub(super) whole_up_to: Option<u32>,
-    /// Set to stop the iteration ([`IterationError::Cancelled`](crate::iteration::IterationError::Cancelled)).
-    pub(super) cancel: Option<&'c AtomicBool>,
-}
 
 /// The nonlinear solution with harmonics 0..=m on `sections`: one-shot or
 /// along the load path of `solver.loading` (the iteration chooses), with

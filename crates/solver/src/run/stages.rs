@@ -135,7 +135,7 @@ pub(super) fn iterate_stages(
     scene: &Scene,
     start: Start<'_>,
     m: u32,
-    asked: super::nonlinear::Asked<'_>,
+    asked: super::start::Asked<'_>,
     sections: &Sections,
     mut ends: Option<&mut Vec<super::StageSnapshot>>,
     mut progress: impl FnMut(&IterationRecord),

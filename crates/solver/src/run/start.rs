@@ -18,3 +18,12 @@ pub(super) struct Start<'a> {
     /// The end of the initial phase, if any.
     pub initial: Option<&'a InitialState>,
 }
+
+/// What a caller of `run::nonlinear::iterate` asks beyond the solution.
+#[derive(Clone, Copy, Default)]
+pub(super) struct Asked<'c> {
+    /// The highest harmonic with whole displacements (`None`: every one).
+    pub(super) whole_up_to: Option<u32>,
+    /// Set to stop the iteration ([`IterationError::Cancelled`](crate::iteration::IterationError::Cancelled)).
+    pub(super) cancel: Option<&'c std::sync::atomic::AtomicBool>,
+}
