@@ -159,7 +159,12 @@ pub(super) fn finish(
     // the whole displacements of harmonics 0 and 1 as it will in most runs;
     // stopped when the run it checks ends short of the whole load. Not
     // where factors are reduced: each run would read or make their rest.
-    let beside = m >= 2 && run.problem.factors.iter().all(HarmonicFactor::is_full);
+    // Not with plastic bodies: each run refactorizes every harmonic's
+    // tangent at every Newton step on all cores, and two at once took
+    // 1.28x the wall time and 1.48x the peak memory of one after the other
+    // (docs/tutorial/pile_clay.json at M = 8, docs/performance.md).
+    let beside =
+        m >= 2 && run.problem.factors.iter().all(HarmonicFactor::is_full) && !scene.has_plastic_bodies();
     let cancel = AtomicBool::new(false);
     let (solved, early) = std::thread::scope(|s| {
         let early = if beside {
