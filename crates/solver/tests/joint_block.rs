@@ -16,10 +16,15 @@
 //! A factor reduced to its joint block ([`Model::joint_block`]) gives the
 //! same joint solves and full solves, value for value (the rest of its
 //! values read back from disk where there is one, else factorized again).
+//! The stiff joints' `Z_m = [K_m^-1]` on the joint nodes
+//! ([`Model::joint_inverse`], kept with its factor) applied to a load is
+//! the joint-block solve of it, in narrow passes and in wide ones.
 
+use axijoint_solver::linear::{HarmonicFactor, Model};
 use axijoint_solver::run::{build_model, mesh_scene};
 use axijoint_solver::scene::Scene;
 use std::path::PathBuf;
+use std::sync::Arc;
 
 fn geo(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -48,6 +53,7 @@ fn check(scene: &Scene, label: &str, reduced: bool) {
         }
         let full = model.solve(&factor, &[&full_loads[0], &full_loads[1]]);
         let joint = model.solve_joint(&factor, &[&g[0], &g[1]]);
+        check_inverse(&model, &factor, &g, &joint, &format!("{label} m = {m}"));
         // The factor reduced to its joint block: the same joint solve value
         // for value, and a full solve (factorized again) equal to the whole
         // factor's.
@@ -92,6 +98,61 @@ fn check(scene: &Scene, label: &str, reduced: bool) {
                 worst / scale
             );
         }
+    }
+}
+
+/// `Z_m = [K_m^-1]` on the joint nodes ([`Model::joint_inverse`]) applied
+/// to `g` gives the joint-block solve `joint` (both exact: agreement to
+/// 1e-12 of the largest displacement, round-off of a sum of `3 n_j`
+/// products), and a second call returns the same matrix, not a new one.
+fn check_inverse(
+    model: &Model,
+    factor: &HarmonicFactor,
+    g: &[Vec<f64>; 2],
+    joint: &[Vec<f64>; 2],
+    label: &str,
+) {
+    let z = model.joint_inverse(factor);
+    assert_eq!(z.nrows(), g[0].len(), "{label}");
+    for f in 0..2 {
+        let zg = &*z * nalgebra::DVector::from_column_slice(&g[f]);
+        let scale = joint[f].iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        let worst = zg
+            .iter()
+            .zip(&joint[f])
+            .fold(0.0f64, |a, (x, y)| a.max((x - y).abs()));
+        assert!(
+            worst <= 1e-12 * scale,
+            "{label} family {f}: Z g differs from the joint solve by {:.2e} (relative)",
+            worst / scale
+        );
+    }
+    assert!(
+        Arc::ptr_eq(&z, &model.joint_inverse(factor)),
+        "{label}: formed again"
+    );
+}
+
+/// A joint with `3 n_j >= 1024` (the pile in soil at size 0.1): `Z_m` is
+/// formed 128 unit loads a pass there, 16 below (the other tests).
+#[test]
+fn joint_inverse_in_wide_passes_equals_the_joint_solve() {
+    let mut json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(geo("pile_soil.json")).expect("read")).expect("json");
+    json["mesh"]["parameters"]["size"] = serde_json::json!(0.1);
+    let scene = Scene::from_str(&json.to_string(), geo("pile_soil.json")).expect("scene");
+    let (mesh, _) = mesh_scene(&scene, None).expect("mesh");
+    let model = build_model(&scene, mesh).expect("model");
+    let nj = 3 * model.joint_nodes().len();
+    assert!(nj >= 1024, "3 n_j = {nj}: below the wide passes");
+    for m in [0u32, 1] {
+        let factor = model.factorize(m).expect("factorize");
+        let g: [Vec<f64>; 2] = [
+            (0..nj).map(|i| ((i * 7 % 11) as f64 - 5.0) * 0.1).collect(),
+            (0..nj).map(|i| (i as f64 * 0.37).cos()).collect(),
+        ];
+        let joint = model.solve_joint(&factor, &[&g[0], &g[1]]);
+        check_inverse(&model, &factor, &g, &joint, &format!("pile in soil m = {m}"));
     }
 }
 

@@ -78,28 +78,11 @@ impl Interface {
             })
             .collect();
         let nr = 3 * pairs.len();
-        let solved: Vec<[DMatrix<f64>; 3]> = setup
+        let (z, zc_zr): (Vec<_>, Vec<_>) = setup
             .factor_of
             .par_iter()
             .map(|factor| {
-                // Unit loads in blocks of BLOCK: each pass reads the
-                // factor's joint block once (2 at a time took 11 ms per
-                // harmonic on the pile in soil, 3 n_j = 510).
-                const BLOCK: usize = 16;
-                let mut z = DMatrix::<f64>::zeros(n, n);
-                let mut e: [Vec<f64>; BLOCK] = std::array::from_fn(|_| vec![0.0; n]);
-                for first in (0..n).step_by(BLOCK) {
-                    let cols = BLOCK.min(n - first);
-                    for (q, eq) in e.iter_mut().enumerate().take(cols) {
-                        eq[first + q] = 1.0;
-                    }
-                    let loads: [&[f64]; BLOCK] = std::array::from_fn(|q| e[q].as_slice());
-                    let u = setup.model.solve_joint(factor, &loads);
-                    for (q, eq) in e.iter_mut().enumerate().take(cols) {
-                        z.column_mut(first + q).copy_from_slice(&u[q]);
-                        eq[first + q] = 0.0;
-                    }
-                }
+                let z = setup.model.joint_inverse(factor);
                 // Z C^T: column (pair, c) = Z e_top - Z e_bottom (Z symmetric).
                 let mut zc = DMatrix::<f64>::zeros(n, nr);
                 for (q, &(bot, top)) in pairs.iter().enumerate() {
@@ -115,15 +98,10 @@ impl Interface {
                         zr.set_row(3 * q + c, &row);
                     }
                 }
-                [z, zc, zr]
+                (z, (zc, zr))
             })
-            .collect();
-        let (mut z, mut zc, mut zr) = (Vec::new(), Vec::new(), Vec::new());
-        for [a, b, c] in solved {
-            z.push(a);
-            zc.push(b);
-            zr.push(c);
-        }
+            .unzip();
+        let (zc, zr): (Vec<_>, Vec<_>) = zc_zr.into_iter().unzip();
         let (mut b, mut g) = (Vec::new(), Vec::new());
         for info in &setup.points {
             // The top half of the element operators: the jumps of the pairs.

@@ -3,6 +3,7 @@
 
 use faer::sparse::linalg::lu::SymbolicLu;
 use nalgebra::{DMatrix, Matrix3};
+use std::sync::Arc;
 
 /// Per pair with jumps a member cannot have, the projector onto them.
 pub(super) type NullBlocks = Vec<(usize, Matrix3<f64>)>;
@@ -10,8 +11,9 @@ pub(super) type NullBlocks = Vec<(usize, Matrix3<f64>)>;
 /// The preconditioner's fixed data, formed once per run
 /// (`Setup::interface`).
 pub(super) struct Interface {
-    /// `Z_m` per harmonic index, order `n = 3 n_j`.
-    pub(super) z: Vec<DMatrix<f64>>,
+    /// `Z_m` per harmonic index, order `n = 3 n_j` (kept with the factors:
+    /// [`crate::linear::Model::joint_inverse`]).
+    pub(super) z: Vec<Arc<DMatrix<f64>>>,
     /// `Z_m C^T` (n x n_r) and `Z_r = C Z_m C^T` (n_r x n_r), C the relative
     /// displacement of each node pair (top minus bottom), `n_r = 3 pairs`.
     pub(super) zc: Vec<DMatrix<f64>>,

@@ -367,7 +367,7 @@ impl StiffPreconditioner {
         let mut yr = vec![0.0; members.len() * nr];
         for (i, &(h, f)) in members.iter().enumerate() {
             let rv = DVector::from_column_slice(&released[h][f]);
-            y.push(&fixed.z[h] * &rv);
+            y.push(&*fixed.z[h] * &rv);
             yr[i * nr..(i + 1) * nr].copy_from_slice(fixed.zc[h].tr_mul(&rv).as_slice());
         }
         let mut rhs = vec![0.0; yr.len()];

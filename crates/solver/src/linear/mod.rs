@@ -25,6 +25,7 @@ use faer::sparse::linalg::amd;
 use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, SymbolicCholesky, SymmetricOrdering};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Mat, Side};
+use nalgebra::DMatrix;
 use std::sync::atomic::AtomicUsize;
 use std::sync::{Arc, Mutex, OnceLock};
 
@@ -81,6 +82,9 @@ pub struct HarmonicFactor {
     spilled: Option<crate::spill::Spilled>,
     /// Seconds its numeric factorization took.
     seconds: f64,
+    /// `[K_m^-1]` on the joint nodes, once asked for
+    /// ([`Model::joint_inverse`]).
+    joint_inverse: OnceLock<Arc<DMatrix<f64>>>,
 }
 
 impl HarmonicFactor {
@@ -249,6 +253,51 @@ impl Model {
             }
         }
         out
+    }
+
+    /// `Z_m = [K_m^-1]` on the joint nodes (order `3 * joint_nodes().len()`,
+    /// node-DOF order of [`Model::joint_nodes`]) of `factor`, a factor of
+    /// this model: formed at the first call from `3 n_j` unit loads through
+    /// [`Model::solve_joint`], then kept with the factor (whose values never
+    /// change), so every run on the same factors (the M/2 check's beside
+    /// the M run's, an initial phase's before it) shares it.
+    pub fn joint_inverse(&self, factor: &HarmonicFactor) -> Arc<DMatrix<f64>> {
+        factor
+            .joint_inverse
+            .get_or_init(|| {
+                // Unit loads in blocks: each pass reads the factor's joint
+                // block once. Measured on the pile in geostatic soil at
+                // 1.1e5 unknowns per harmonic (3 n_j = 2526, M = 8,
+                // k h / E = 1e4): 128 at a time, the whole run 1.10x faster
+                // than with 16, 256 within 3 % of 128; on a small joint a
+                // wide block is mostly padding.
+                let n = 3 * self.joint_nodes.len();
+                Arc::new(if n >= 1024 {
+                    self.unit_solves::<128>(factor, n)
+                } else {
+                    self.unit_solves::<16>(factor, n)
+                })
+            })
+            .clone()
+    }
+
+    /// `[K_m^-1]` on the joint nodes, `K` unit loads a pass.
+    fn unit_solves<const K: usize>(&self, factor: &HarmonicFactor, n: usize) -> DMatrix<f64> {
+        let mut z = DMatrix::<f64>::zeros(n, n);
+        let mut e: [Vec<f64>; K] = std::array::from_fn(|_| vec![0.0; n]);
+        for first in (0..n).step_by(K) {
+            let cols = K.min(n - first);
+            for (q, eq) in e.iter_mut().enumerate().take(cols) {
+                eq[first + q] = 1.0;
+            }
+            let loads: [&[f64]; K] = std::array::from_fn(|q| e[q].as_slice());
+            let u = self.solve_joint(factor, &loads);
+            for (q, eq) in e.iter_mut().enumerate().take(cols) {
+                z.column_mut(first + q).copy_from_slice(&u[q]);
+                eq[first + q] = 0.0;
+            }
+        }
+        z
     }
 
     /// The trailing right-hand sides of joint-node forces `loads` (as
@@ -486,6 +535,7 @@ impl Model {
             pinned,
             spilled: None,
             seconds: t.elapsed().as_secs_f64(),
+            joint_inverse: OnceLock::new(),
         })
     }
 

@@ -163,6 +163,7 @@ impl Model {
                 pinned: factor.pinned.clone(),
                 spilled: None,
                 seconds: factor.seconds,
+                joint_inverse: factor.joint_inverse.clone(),
             };
         }
         let (values, pinned) = match self.current_terms() {
